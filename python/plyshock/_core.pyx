@@ -1,0 +1,221 @@
+# cython: language_level=3
+"""Compiled binding between the Python front end and the C solver in src/.
+
+Only python/plyshock/core.py calls this module: it hands over a plain dict
+(the scene already validated) and petsc4py DM objects.  No loop here runs over
+cells or markers.
+"""
+from petsc4py.PETSc cimport DM, PetscDM
+from petsc4py.PETSc import Error as PetscError
+from libc.stdlib cimport calloc, free
+from libc.string cimport memset
+import numpy as np
+
+cdef extern from "plyshock.h":
+    ctypedef int PetscErrorCode
+    ctypedef int PetscInt
+    ctypedef long long PetscInt64
+    ctypedef double PetscReal
+    ctypedef enum PetscBool:
+        PETSC_FALSE
+        PETSC_TRUE
+    ctypedef enum PSBodyKind:
+        PS_BODY_LAMINATE
+        PS_BODY_BOX
+        PS_BODY_SPHERE
+        PS_BODY_CYLINDER
+    ctypedef struct PSBody:
+        PSBodyKind kind
+        PetscInt material
+        PetscInt priority
+        PetscInt subdivision
+        PetscReal volume_tolerance
+        PetscReal sliver_fraction
+        PetscReal velocity[3]
+        PetscReal origin[3]
+        PetscReal e[3][3]
+        PetscReal size[3]
+        PetscInt nply
+        PetscReal *z
+        PetscInt *ply_material
+        PetscReal *ply_axes
+        PetscReal center[3]
+        PetscReal axis[3]
+        PetscReal radius
+        PetscReal length
+    ctypedef struct PSScene:
+        PetscInt dim
+        PetscReal lower[3]
+        PetscReal upper[3]
+        PetscInt cells[3]
+        PetscInt nmaterial
+        PetscReal *density
+        PetscBool anisotropic
+        PetscInt nbody
+        PSBody *bodies
+    ctypedef struct PSInsertStats:
+        PetscInt64 pieces
+        PetscInt64 markers
+        PetscInt64 slivers_merged
+        PetscInt64 slivers_kept
+    PetscErrorCode PSBodyBoundingBox(const PSScene *, PetscInt, PetscReal *, PetscReal *)
+    PetscReal PSBodyVolume(const PSScene *, PetscInt)
+    PetscErrorCode PSOverlapVolume(const PSScene *, PetscInt, PetscInt, PetscReal *)
+    PetscErrorCode PSBodyDomainVolume(const PSScene *, PetscInt, PetscReal *)
+    PetscErrorCode PSInitializePackage()
+    PetscErrorCode PSCountPieces(const PSScene *, const PetscInt *, const PetscInt *, PetscInt64 *)
+    PetscErrorCode PSInsertMarkers(const PSScene *, PetscDM, PetscDM, PSInsertStats *)
+    PetscErrorCode PSMarkersBytes(const PSScene *, PetscDM, PetscInt *)
+    PetscErrorCode PSCellOwnership(PetscDM, PetscInt *, PetscInt *)
+    PetscErrorCode PSWriteMarkers(const PSScene *, PetscDM, const char *, PetscInt, const char **, const char **, const char **, const char **)
+
+KIND = {"laminate": PS_BODY_LAMINATE, "box": PS_BODY_BOX, "sphere": PS_BODY_SPHERE, "cylinder": PS_BODY_CYLINDER}
+
+
+cdef inline int CHK(PetscErrorCode ierr) except -1:
+    if ierr != 0:
+        raise PetscError(ierr)
+    return 0
+
+
+cdef class _Strings:
+    """A NULL-free char*[] kept alive with its bytes."""
+    cdef const char **ptr
+    cdef list keep
+
+    def __cinit__(self, strings):
+        self.keep = [s.encode() for s in strings]
+        self.ptr = <const char **>calloc(max(1, len(self.keep)), sizeof(char *))
+        for i, b in enumerate(self.keep):
+            self.ptr[i] = <const char *>b
+
+    def __dealloc__(self):
+        free(self.ptr)
+
+
+cdef class CScene:
+    """The C PSScene built from the dict of core.scene_to_c()."""
+    cdef PSScene s
+    cdef public int maxply
+
+    def __cinit__(self, dict spec):
+        cdef PSBody *B
+        cdef int i, j, k
+        memset(&self.s, 0, sizeof(PSScene))
+        self.s.dim = spec["dim"]
+        for i in range(3):
+            self.s.lower[i] = spec["lower"][i]
+            self.s.upper[i] = spec["upper"][i]
+            self.s.cells[i] = spec["cells"][i]
+        dens = spec["density"]
+        self.s.nmaterial = len(dens)
+        self.s.density = <PetscReal *>calloc(max(1, len(dens)), sizeof(PetscReal))
+        for i in range(len(dens)):
+            self.s.density[i] = dens[i]
+        self.s.anisotropic = PETSC_TRUE if spec["anisotropic"] else PETSC_FALSE
+        bodies = spec["bodies"]
+        self.s.nbody = len(bodies)
+        self.s.bodies = <PSBody *>calloc(max(1, len(bodies)), sizeof(PSBody))
+        self.maxply = 0
+        for i, b in enumerate(bodies):
+            B = &self.s.bodies[i]
+            B.kind = KIND[b["kind"]]
+            B.material = b.get("material", -1)
+            B.priority = b["priority"]
+            B.subdivision = b["subdivision"]
+            B.volume_tolerance = b["volume_tolerance"]
+            B.sliver_fraction = b["sliver_fraction"]
+            for j in range(3):
+                B.velocity[j] = b["velocity"][j]
+                B.origin[j] = b["origin"][j]
+                B.size[j] = b["size"][j]
+                B.center[j] = b["center"][j]
+                B.axis[j] = b["axis"][j]
+                for k in range(3):
+                    B.e[j][k] = b["e"][j][k]
+            B.radius = b["radius"]
+            B.length = b["length"]
+            z = b["z"]
+            B.nply = max(0, len(z) - 1)
+            self.maxply = max(self.maxply, B.nply)
+            if B.nply:
+                B.z = <PetscReal *>calloc(len(z), sizeof(PetscReal))
+                B.ply_material = <PetscInt *>calloc(B.nply, sizeof(PetscInt))
+                B.ply_axes = <PetscReal *>calloc(9 * B.nply, sizeof(PetscReal))
+                for j in range(len(z)):
+                    B.z[j] = z[j]
+                for j in range(B.nply):
+                    B.ply_material[j] = b["ply_material"][j]
+                    for k in range(9):
+                        B.ply_axes[9 * j + k] = b["ply_axes"][j][k]
+
+    def __dealloc__(self):
+        cdef int i
+        if self.s.bodies != NULL:
+            for i in range(self.s.nbody):
+                free(self.s.bodies[i].z)
+                free(self.s.bodies[i].ply_material)
+                free(self.s.bodies[i].ply_axes)
+        free(self.s.bodies)
+        free(self.s.density)
+
+    # geometry: no PETSc objects -------------------------------------------
+    def bounding_box(self, int b):
+        cdef PetscReal lo[3]
+        cdef PetscReal hi[3]
+        CHK(PSBodyBoundingBox(&self.s, b, lo, hi))
+        return [lo[i] for i in range(3)], [hi[i] for i in range(3)]
+
+    def body_volume(self, int b):
+        return PSBodyVolume(&self.s, b)
+
+    def domain_volume(self, int b):
+        cdef PetscReal v = 0
+        CHK(PSBodyDomainVolume(&self.s, b, &v))
+        return v
+
+    def overlap_volume(self, int a, int b):
+        cdef PetscReal v = 0
+        CHK(PSOverlapVolume(&self.s, a, b, &v))
+        return v
+
+    def count(self, cs, ce):
+        """Markers per (body, ply + 1) over cells [cs, ce), without inserting."""
+        cdef PetscInt c0[3]
+        cdef PetscInt c1[3]
+        cdef PetscInt64[:, ::1] out = np.zeros((self.s.nbody, self.maxply + 1), dtype=np.int64)
+        for i in range(3):
+            c0[i] = cs[i]
+            c1[i] = ce[i]
+        if self.s.nbody:
+            CHK(PSCountPieces(&self.s, c0, c1, &out[0, 0]))
+        return np.asarray(out)
+
+    def marker_bytes(self, DM sw=None):
+        cdef PetscInt nb = 0
+        CHK(PSMarkersBytes(&self.s, sw.dm if sw is not None else NULL, &nb))
+        return nb
+
+    # with PETSc objects ----------------------------------------------------
+    def owned_cells(self, DM da):
+        cdef PetscInt cs[3]
+        cdef PetscInt ce[3]
+        CHK(PSCellOwnership(da.dm, cs, ce))
+        return [cs[i] for i in range(3)], [ce[i] for i in range(3)]
+
+    def insert(self, DM da, DM sw):
+        cdef PSInsertStats st
+        CHK(PSInsertMarkers(&self.s, da.dm, sw.dm, &st))
+        return dict(pieces=st.pieces, markers=st.markers, slivers_merged=st.slivers_merged, slivers_kept=st.slivers_kept)
+
+    def write(self, DM sw, str filename, dict attrs, list body_names, list material_names):
+        names = _Strings(list(attrs.keys()))
+        values = _Strings([str(v) for v in attrs.values()])
+        bn = _Strings(body_names)
+        mn = _Strings(material_names)
+        fn = filename.encode()
+        CHK(PSWriteMarkers(&self.s, sw.dm, fn, len(attrs), names.ptr, values.ptr, bn.ptr, mn.ptr))
+
+
+def initialize():
+    CHK(PSInitializePackage())

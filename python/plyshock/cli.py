@@ -1,0 +1,155 @@
+"""The `plyshock` command.  SI units throughout (m, kg, s, Pa, K).
+
+    plyshock check SCENE.yaml                    validate; expected markers and memory
+    plyshock init SCENE.yaml -o OUT.h5 [--png F] insert markers (under mpiexec or alone)
+    plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply
+
+Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
+Bad input exits with status 2 and a message naming the deck key.
+"""
+import argparse
+import os
+import sys
+import time
+
+
+def _rank():
+    return int(os.environ.get("OMPI_COMM_WORLD_RANK", os.environ.get("PMI_RANK", "0")))
+
+
+def _print0(*a):
+    if _rank() == 0:
+        print(*a, flush=True)
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog="plyshock", description=__doc__.split("\n\n")[0],
+                                epilog="PETSc options (e.g. -log_view) may follow any command.")
+    sub = p.add_subparsers(dest="cmd", required=True)
+    c = sub.add_parser("check", help="validate a deck; print the expected marker count and memory without inserting")
+    c.add_argument("deck")
+    i = sub.add_parser("init", help="insert a scene's markers exactly and write OUT.h5 (+ .xmf)")
+    i.add_argument("deck")
+    i.add_argument("-o", "--output", required=True, help="marker file (HDF5)")
+    i.add_argument("--png", help="also render the orientation picture to this PNG")
+    i.add_argument("--axis", type=int, default=1, choices=(1, 2, 3), help="material axis drawn as glyphs (default 1, the fibre)")
+    pl = sub.add_parser("plot", help="render markers with orientation glyphs coloured by ply, off screen")
+    pl.add_argument("markers", help="a marker file written by plyshock init")
+    pl.add_argument("--png", required=True)
+    pl.add_argument("--axis", type=int, default=1, choices=(1, 2, 3), help="material axis drawn as glyphs (default 1, the fibre)")
+    pl.add_argument("--bodies", help="comma-separated body names to draw (default: all)")
+    pl.add_argument("--zoom", type=float, nargs="+", metavar="X", help="zoom box: x0 y0 x1 y1 (2D) or x0 y0 z0 x1 y1 z1 (3D), metres")
+    pl.add_argument("--color", default="ply", choices=("ply", "body", "material"), help="what colours the markers (default ply)")
+    pl.add_argument("--every", type=int, default=1, help="draw every n-th glyph (default 1)")
+    return p
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    # single-dash options go to PETSc, with the value that follows when it is not an option
+    ours, petsc = [], []
+    k = 0
+    while k < len(argv):
+        a = argv[k]
+        if a.startswith("-") and not a.startswith("--") and len(a) > 2 and a not in ("-o",):
+            petsc.append(a)
+            if k + 1 < len(argv) and not argv[k + 1].startswith("-"):
+                petsc.append(argv[k + 1])
+                k += 1
+        else:
+            ours.append(a)
+        k += 1
+    args = _parser().parse_args(ours)
+    from .errors import DeckError
+    try:
+        if args.cmd == "plot":
+            from .post import plot_markers
+            plot_markers(args.markers, args.png, axis=args.axis, bodies=args.bodies.split(",") if args.bodies else None,
+                         zoom=args.zoom, color=args.color, every=args.every)
+            print(f"wrote {args.png}")
+            return 0
+        from .deck import load
+        scene, text = load(args.deck)
+        import petsc4py
+        petsc4py.init([sys.argv[0]] + petsc)
+        if args.cmd == "check":
+            return _check(scene)
+        return _init(scene, text, args.output, args.png, args.axis)
+    except DeckError as e:
+        if _rank() == 0:
+            print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
+        return 2
+
+
+def _table(scene, counts, masses=None):
+    rows = []
+    for b, body in enumerate(scene.bodies):
+        plies = range(len(body.laminate.plies)) if body.kind == "laminate" else [-1]
+        for p in plies:
+            n = counts.get((b, p), 0)
+            what = f"ply {p} ({body.laminate.plies[p].material})" if p >= 0 else body.material
+            m = f"  mass {masses[(b, p)]:.9g} kg{'/m' if scene.dimension == 2 else ''}" if masses else ""
+            rows.append(f"  {body.name:<12s} {what:<24s} {n:>10d} markers{m}")
+    return "\n".join(rows)
+
+
+def _check(scene):
+    from . import core
+    cs = core.c_scene(scene)
+    clipped = core.check_geometry(scene, cs)
+    counts, nbytes = core.count_markers(scene, cs)
+    P = cs.maxply + 1
+    d = {(b, p - 1): int(counts[b, p]) for b in range(counts.shape[0]) for p in range(P) if counts[b, p]}
+    total = sum(d.values())
+    _print0(f"deck OK: dimension {scene.dimension}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
+            f"{len(scene.materials)} materials, {len(scene.bodies)} bodies (SI units)")
+    for name, v in clipped.items():
+        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
+    _print0(_table(scene, d))
+    _print0(f"expected markers: {total}, {nbytes} bytes per marker, {total * nbytes / 2**20:.3f} MiB")
+    return 0
+
+
+def run_scene(scene, output, png=None, petsc_args=(), axis=1):
+    """`plyshock init` for a Scene built in Python (the examples)."""
+    from .errors import DeckError
+    try:
+        scene.validate()
+        import petsc4py
+        petsc4py.init([sys.argv[0]] + list(petsc_args))
+        return _init(scene, scene.to_yaml(), output, png, axis)
+    except DeckError as e:
+        if _rank() == 0:
+            print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
+        return 2
+
+
+def _init(scene, text, output, png=None, axis=1):
+    from petsc4py import PETSc
+    from . import core
+    t0 = time.perf_counter()
+    m = core.initialize(scene)
+    t1 = time.perf_counter()
+    s = core.summary(m)
+    _print0(f"inserted {m.stats['markers']} markers from {m.stats['pieces']} exact pieces on "
+            f"{PETSc.COMM_WORLD.getSize()} rank(s) in {t1 - t0:.3f} s; slivers merged {m.stats['slivers_merged']}, "
+            f"kept {m.stats['slivers_kept']}")
+    for name, v in m.clipped.items():
+        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
+    _print0(_table(scene, {k: v[0] for k, v in s.items()}, {k: v[1] for k, v in s.items()}))
+    _print0(f"{m.bytes_per_marker} bytes per marker, {m.stats['markers'] * m.bytes_per_marker / 2**20:.3f} MiB in all")
+    d = os.path.dirname(os.path.abspath(output))
+    if PETSc.COMM_WORLD.getRank() == 0:
+        os.makedirs(d, exist_ok=True)
+    PETSc.COMM_WORLD.barrier()
+    core.write_markers(m, output, text)
+    _print0(f"wrote {output} and {os.path.splitext(output)[0]}.xmf")
+    if png and PETSc.COMM_WORLD.getRank() == 0:
+        from .post import plot_markers
+        plot_markers(output, png, axis=axis)
+        print(f"wrote {png}", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

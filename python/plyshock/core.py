@@ -1,0 +1,213 @@
+"""The one place where scene objects become C calls (through _core).
+
+    cs = c_scene(scene)                 # a C PSScene, no PETSc objects
+    report = check_geometry(scene, cs)  # bodies vs domain, overlaps: DeckError
+    m = initialize(scene, cs)           # DMDA + DMSwarm with exact markers
+    write_markers(m, "out.h5", deck_text)
+"""
+import os
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import DeckError
+
+_FACE = {0: ("x-", "x+"), 1: ("y-", "y+"), 2: ("z-", "z+")}
+
+
+def scene_to_c(scene):
+    """The plain dict _core.CScene reads (SI units, 3-vectors)."""
+    dim = scene.dimension
+    pad = lambda v: list(v) + [0.0] * (3 - len(v))
+    bodies = []
+    for b in scene.bodies:
+        d = dict(kind=b.kind, priority=b.priority or 0, subdivision=b.subdivision,
+                 volume_tolerance=b.volume_tolerance, sliver_fraction=b.sliver_fraction,
+                 velocity=pad(b.velocity), origin=[0.0] * 3, e=np.eye(3).tolist(), size=[0.0] * 3,
+                 center=[0.0] * 3, axis=[0.0] * 3, radius=0.0, length=0.0, z=[])
+        if b.kind == "laminate":
+            lam = b.laminate
+            size = list(lam.size) + ([0.0] if dim == 2 else [])
+            d.update(origin=pad(lam.frame.origin), e=np.asarray(b._axes).tolist(),
+                     size=[size[0], size[1], b._z[-1]], z=list(b._z), ply_material=list(b._ply_mat),
+                     ply_axes=[np.asarray(E).reshape(9).tolist() for E in b._ply_axes])
+        else:
+            d["material"] = b._mat
+            if b.kind == "box":
+                d.update(origin=pad(b.box.lower), size=pad(np.subtract(b.box.upper, b.box.lower).tolist()))
+                if dim == 2:   # a 2D box spans axes 1 and 3 of its frame (x and y)
+                    d.update(e=[[1, 0, 0], [0, 0, 1], [0, 1, 0]], size=[d["size"][0], 0.0, d["size"][1]])
+            elif b.kind == "sphere":
+                d.update(center=pad(b.sphere.center), radius=b.sphere.radius)
+            else:
+                c = b.cylinder
+                d.update(center=pad(c.base), axis=pad(c.axis), radius=c.radius, length=c.length)
+        bodies.append(d)
+    return dict(dim=dim, lower=pad(scene.grid.lower), upper=pad(scene.grid.upper),
+                cells=list(scene.grid.cells) + [1] * (3 - dim),
+                density=[m.density for m in scene.materials], anisotropic=scene.anisotropic, bodies=bodies)
+
+
+def c_scene(scene):
+    from . import _core
+    return _core.CScene(scene_to_c(scene))
+
+
+def check_geometry(scene, cs):
+    """Bodies against the domain and each other; raises DeckError.
+
+    Returns {body name: clipped-away volume} for bodies cut by a face (symmetry
+    faces always, other faces only with clip: true).  Runs in C on the plain
+    scene struct, before any PETSc object is made.
+    """
+    g, dim = scene.grid, scene.dimension
+    clipped = {}
+    size = max(u - l for l, u in zip(g.lower, g.upper))
+    tol = 1e-12 * size
+    for i, b in enumerate(scene.bodies):
+        lo, hi = cs.bounding_box(i)
+        for a in range(dim):
+            if hi[a] <= g.lower[a] + tol or lo[a] >= g.upper[a] - tol:
+                raise DeckError(f"bodies[{i}]", f"body '{b.name}' lies wholly outside the grid "
+                                f"(its extent along {'xyz'[a]} is [{lo[a]:.6g}, {hi[a]:.6g}] m, the grid's [{g.lower[a]:.6g}, {g.upper[a]:.6g}] m)")
+        crossed = []
+        for a in range(dim):
+            if lo[a] < g.lower[a] - tol:
+                crossed.append(_FACE[a][0])
+            if hi[a] > g.upper[a] + tol:
+                crossed.append(_FACE[a][1])
+        for f in crossed:
+            if g.boundary[f] != "symmetry" and not b.clip:
+                raise DeckError(f"bodies[{i}].clip", f"body '{b.name}' crosses the {g.boundary[f]} face {f} of the grid; "
+                                f"move it inside, or set clip: true to cut it there (the clipped-away volume is reported)")
+        if crossed:
+            inside = cs.domain_volume(i)
+            if inside <= 0.0:
+                raise DeckError(f"bodies[{i}]", f"body '{b.name}' lies wholly outside the grid")
+            clipped[b.name] = cs.body_volume(i) - inside
+    # overlaps: positive common volume; touching bodies do not overlap
+    for i in range(len(scene.bodies)):
+        for j in range(i + 1, len(scene.bodies)):
+            lo1, hi1 = cs.bounding_box(i)
+            lo2, hi2 = cs.bounding_box(j)
+            if any(min(hi1[a], hi2[a]) <= max(lo1[a], lo2[a]) + tol for a in range(dim)):
+                continue
+            v = cs.overlap_volume(i, j)
+            bi, bj = scene.bodies[i], scene.bodies[j]
+            if v > 1e-9 * min(cs.body_volume(i), cs.body_volume(j)) and (bi.priority or 0) == (bj.priority or 0):
+                raise DeckError(f"bodies[{j}]", f"bodies '{bi.name}' and '{bj.name}' overlap ({v:.6g} m^{dim} in common); "
+                                f"move them apart, or give them different priority (the higher wins the overlap)")
+    return clipped
+
+
+def count_markers(scene, cs):
+    """Markers per (body, ply+1) that insertion will make, counted serially, and
+    bytes per marker; nothing is inserted and no PETSc object is made."""
+    cells = list(scene.grid.cells) + [1] * (3 - scene.dimension)
+    return cs.count([0, 0, 0], cells), cs.marker_bytes(None)
+
+
+@dataclass
+class Markers:
+    scene: object
+    cs: object
+    da: object
+    sw: object
+    stats: dict
+    bytes_per_marker: int
+    clipped: dict
+
+
+def initialize(scene, cs=None, comm=None):
+    """DMDA grid + DMSwarm markers with exact insertion, on any rank count."""
+    from petsc4py import PETSc
+    from . import _core
+    if cs is None:
+        cs = c_scene(scene)
+    clipped = check_geometry(scene, cs)
+    comm = comm or PETSc.COMM_WORLD
+    _core.initialize()
+    g, dim = scene.grid, scene.dimension
+    da = PETSc.DMDA().create(dim=dim, dof=1, sizes=tuple(n + 1 for n in g.cells), stencil_width=1,
+                             stencil_type=PETSc.DMDA.StencilType.BOX, comm=comm)
+    da.setUniformCoordinates(*[v for a in range(dim) for v in (g.lower[a], g.upper[a])])
+    sw = PETSc.DMSwarm().create(comm=comm)
+    sw.setDimension(dim)
+    sw.setType(PETSc.DMSwarm.Type.BASIC)
+    stats = cs.insert(da, sw)
+    mpi = comm.tompi4py()
+    stats = {k: mpi.allreduce(v) for k, v in stats.items()}
+    return Markers(scene, cs, da, sw, stats, cs.marker_bytes(sw), clipped)
+
+
+def local_fields(m, names):
+    """Copies of this rank's marker fields, reshaped (n, bs)."""
+    out = {}
+    for name in names:
+        f = m.sw.getField(name)
+        n = m.sw.getLocalSize()
+        out[name] = np.array(f).reshape(n, -1) if n else np.array(f).reshape(0, 1)
+        m.sw.restoreField(name)
+    return out
+
+
+def summary(m):
+    """Global marker count and mass per (body, ply): {(body, ply): (count, mass)}."""
+    has_ply = any(b.kind == "laminate" for b in m.scene.bodies)
+    f = local_fields(m, ["body", "mass"] + (["ply"] if has_ply else []))
+    body = f["body"][:, 0].astype(np.int64)
+    ply = f["ply"][:, 0].astype(np.int64) if has_ply else -np.ones_like(body)
+    P = m.cs.maxply + 1
+    key = body * P + ply + 1
+    nk = len(m.scene.bodies) * P
+    count = np.bincount(key, minlength=nk).astype(np.int64)
+    mass = np.bincount(key, weights=f["mass"][:, 0], minlength=nk)
+    mpi = m.sw.getComm().tompi4py()
+    from mpi4py import MPI
+    mpi.Allreduce(MPI.IN_PLACE, count, op=MPI.SUM)
+    mpi.Allreduce(MPI.IN_PLACE, mass, op=MPI.SUM)
+    return {(int(k // P), int(k % P) - 1): (int(count[k]), float(mass[k])) for k in range(nk) if count[k]}
+
+
+def write_markers(m, filename, deck_text):
+    """The marker file (parallel HDF5) and its ParaView .xmf (rank 0)."""
+    from petsc4py import PETSc
+    from . import __version__
+    comm = m.sw.getComm()
+    opts = " ".join(f"-{k} {v}".strip() for k, v in PETSc.Options().getAll().items())
+    attrs = {"deck": deck_text, "code_version": __version__, "petsc_options": opts,
+             "ranks": str(comm.getSize()), "command": " ".join(sys.argv), "dimension": str(m.scene.dimension)}
+    m.cs.write(m.sw, filename, attrs, [b.name for b in m.scene.bodies], [x.name for x in m.scene.materials])
+    if comm.getRank() == 0:
+        write_xmf(filename, m.stats["markers"], m.scene.dimension, m.scene.anisotropic)
+    comm.barrier()
+
+
+def write_xmf(filename, n, dim, anisotropic):
+    """An XDMF description of the marker file so ParaView opens it."""
+    h5 = os.path.basename(filename)
+
+    def item(path, dims, kind="Float", prec=8):
+        return f'<DataItem Dimensions="{dims}" NumberType="{kind}" Precision="{prec}" Format="HDF">{h5}:{path}</DataItem>'
+
+    attrs = [("mass", "Scalar", str(n), "Float", 8), ("volume", "Scalar", str(n), "Float", 8),
+             ("id", "Scalar", str(n), "Int", 8), ("body", "Scalar", str(n), "Int", 4),
+             ("ply", "Scalar", str(n), "Int", 4), ("material", "Scalar", str(n), "Int", 4)]
+    if anisotropic:
+        attrs += [(a, "Vector", f"{n} 3", "Float", 8) for a in ("axis1", "axis2", "axis3")]
+    body = "\n".join(f'   <Attribute Name="{a}" AttributeType="{t}" Center="Node">{item("/markers/" + a, d, k, p)}</Attribute>'
+                     for a, t, d, k, p in attrs)
+    text = f"""<?xml version="1.0" ?>
+<Xdmf Version="2.0">
+ <Domain>
+  <Grid Name="markers" GridType="Uniform">
+   <Topology TopologyType="Polyvertex" NumberOfElements="{n}" NodesPerElement="1"/>
+   <Geometry GeometryType="{'XY' if dim == 2 else 'XYZ'}">{item('/markers/x', f'{n} {dim}')}</Geometry>
+{body}
+  </Grid>
+ </Domain>
+</Xdmf>
+"""
+    with open(os.path.splitext(filename)[0] + ".xmf", "w") as f:
+        f.write(text)

@@ -1,0 +1,64 @@
+"""Material presets (SI units: kg/m^3, m/s, Pa, K, J/kg/K), each with its source.
+
+A deck names one with `preset:` and may override any field.  Models are named
+by `type`; later issues add the solver's models (EOS, strength, failure) that
+read these parameters.
+"""
+import copy
+
+# Linear Us-up Mie-Grueneisen: D. J. Steinberg, "Equation of state and strength
+# properties of selected materials", LLNL UCRL-MA-106439 (1996).
+# Johnson-Cook strength: G. R. Johnson & W. H. Cook, 7th Int. Symp. Ballistics
+# (1983), reference strain rate 1/s, room temperature 294 K.
+# Johnson-Cook failure: G. R. Johnson & W. H. Cook, Eng. Fract. Mech. 21 (1985).
+# Shear moduli at ambient: Steinberg (1996).
+PRESETS = {
+    "OFHC-copper": {
+        "density": 8930.0,
+        "eos": {"type": "mie-gruneisen", "c0": 3940.0, "s": 1.489, "gamma0": 2.02},
+        "shear_modulus": 47.7e9,
+        "strength": {"type": "johnson-cook", "A": 90e6, "B": 292e6, "n": 0.31, "C": 0.025, "m": 1.09, "T_melt": 1356.0},
+        "specific_heat": 383.0,
+        "failure": None,
+        "source": "Steinberg UCRL-MA-106439 (EOS, G); Johnson & Cook 1983 (strength)",
+    },
+    "4340-steel": {
+        "density": 7810.0,
+        "eos": {"type": "mie-gruneisen", "c0": 4578.0, "s": 1.33, "gamma0": 1.67},
+        "shear_modulus": 77.5e9,
+        "strength": {"type": "johnson-cook", "A": 792e6, "B": 510e6, "n": 0.26, "C": 0.014, "m": 1.03, "T_melt": 1793.0},
+        "specific_heat": 477.0,
+        "failure": None,
+        "source": "Steinberg UCRL-MA-106439 (EOS, G); Johnson & Cook 1983 (strength)",
+    },
+    "6061-T6-aluminum": {
+        "density": 2703.0,
+        "eos": {"type": "mie-gruneisen", "c0": 5240.0, "s": 1.40, "gamma0": 1.97},
+        "shear_modulus": 27.6e9,
+        "source": "Steinberg UCRL-MA-106439 (EOS, G)",
+    },
+    "tantalum": {
+        "density": 16690.0,
+        "eos": {"type": "mie-gruneisen", "c0": 3410.0, "s": 1.20, "gamma0": 1.67},
+        "shear_modulus": 69.0e9,
+        "source": "Steinberg UCRL-MA-106439 (EOS, G)",
+    },
+    # Unidirectional IM7/8552 lamina: NASA CompDam test properties after Camanho
+    # et al.; G23 = E2 / (2 (1 + nu23)).  Density 1570 kg/m^3 from the Hexcel
+    # HexPly 8552 product data sheet (cured laminate density of IM7/8552).
+    "IM7/8552": {
+        "density": 1570.0,
+        "elastic": {"type": "orthotropic", "E1": 171.42e9, "E2": 9.08e9, "E3": 9.08e9,
+                    "G12": 5.29e9, "G13": 5.29e9, "G23": 9.08e9 / (2 * 1.52),
+                    "nu12": 0.32, "nu13": 0.32, "nu23": 0.52},
+        "strengths": {"Xt": 2326.2e6, "Xc": 1200.1e6, "Yt": 62.3e6, "Yc": 199.8e6, "S12": 92.3e6},
+        "source": "NASA CompDam (after Camanho) stiffness and strengths; Hexcel 8552 data sheet density",
+    },
+}
+
+
+def preset(name):
+    """A deep copy of a preset's fields (without its source)."""
+    d = copy.deepcopy(PRESETS[name])
+    d.pop("source", None)
+    return {k: v for k, v in d.items() if v is not None}

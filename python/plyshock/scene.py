@@ -1,0 +1,450 @@
+"""Scene description: grid, materials, bodies.  SI units (m, kg, s, Pa, K).
+
+The Python objects mirror the YAML deck (deck.py) key for key; `Scene.validate()`
+checks every value and raises DeckError naming the deck key path and the
+allowed range, before any PETSc object is made.
+"""
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+
+from . import layup as _layup
+from .errors import DeckError, check_keys, number, vector
+from .materials import PRESETS, preset
+
+FACES = ("x-", "x+", "y-", "y+", "z-", "z+")
+BOUNDARY_KINDS = ("free", "symmetry", "fixed")
+
+
+@dataclass
+class Grid:
+    lower: List[float]
+    upper: List[float]
+    cells: List[int]
+    boundary: dict = field(default_factory=dict)   # face -> free|symmetry|fixed
+
+    KEYS = ("lower", "upper", "cells", "boundary")
+
+    def validate(self, dim, path="grid"):
+        self.lower = vector(self.lower, dim, f"{path}.lower")
+        self.upper = vector(self.upper, dim, f"{path}.upper")
+        if not isinstance(self.cells, (list, tuple)) or len(self.cells) != dim:
+            raise DeckError(f"{path}.cells", f"must be a list of {dim} whole numbers, got {self.cells!r}")
+        self.cells = [number(c, f"{path}.cells[{i}]", 1, 2**20, integer=True) for i, c in enumerate(self.cells)]
+        for i in range(dim):
+            if self.upper[i] <= self.lower[i]:
+                raise DeckError(f"{path}.upper[{i}]", f"{self.upper[i]} must be > lower[{i}] = {self.lower[i]}")
+        faces = FACES[: 2 * dim]
+        b = dict(self.boundary or {})
+        check_keys(b, faces, f"{path}.boundary")
+        for f in faces:
+            kind = b.setdefault(f, "free")
+            if kind not in BOUNDARY_KINDS:
+                raise DeckError(f"{path}.boundary.{f}", f"must be one of {'|'.join(BOUNDARY_KINDS)}, got {kind!r}")
+        self.boundary = b
+        return self
+
+    @property
+    def h(self):
+        return [(u - l) / n for l, u, n in zip(self.lower, self.upper, self.cells)]
+
+
+ELASTIC_KEYS = {"isotropic": ("type", "E", "nu"),
+                "orthotropic": ("type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23")}
+MODEL_KEYS = {
+    "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0")},
+    "strength": {"none": ("type",), "elastic-plastic": ("type", "yield_stress"),
+                 "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0")},
+    "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5")},
+}
+
+
+def orthotropic_stiffness(p):
+    """6x6 stiffness (Voigt 11,22,33,23,13,12) from engineering constants, Pa."""
+    E1, E2, E3 = p["E1"], p["E2"], p["E3"]
+    n12, n13, n23 = p["nu12"], p["nu13"], p["nu23"]
+    S = np.zeros((6, 6))
+    S[0, 0], S[1, 1], S[2, 2] = 1 / E1, 1 / E2, 1 / E3
+    S[0, 1] = S[1, 0] = -n12 / E1
+    S[0, 2] = S[2, 0] = -n13 / E1
+    S[1, 2] = S[2, 1] = -n23 / E2
+    S[3, 3], S[4, 4], S[5, 5] = 1 / p["G23"], 1 / p["G13"], 1 / p["G12"]
+    return S
+
+
+@dataclass
+class Material:
+    name: str
+    preset: Optional[str] = None
+    density: Optional[float] = None          # kg/m^3
+    elastic: Optional[dict] = None           # {type: isotropic|orthotropic, ...} Pa
+    eos: Optional[dict] = None               # {type: mie-gruneisen, c0 m/s, s, gamma0}
+    shear_modulus: Optional[float] = None    # Pa
+    strength: Optional[dict] = None
+    failure: Optional[dict] = None
+    specific_heat: Optional[float] = None    # J/kg/K
+    strengths: Optional[dict] = None         # ply strengths Xt, Xc, Yt, Yc, S12 (Pa)
+
+    KEYS = ("name", "preset", "density", "elastic", "eos", "shear_modulus", "strength", "failure", "specific_heat", "strengths")
+
+    def validate(self, path):
+        if not isinstance(self.name, str) or not self.name:
+            raise DeckError(f"{path}.name", f"must be a non-empty string, got {self.name!r}")
+        explicit = {k: getattr(self, k) for k in self.KEYS[2:] if getattr(self, k) is not None}
+        if self.preset is not None:
+            if self.preset not in PRESETS:
+                import difflib
+                near = difflib.get_close_matches(str(self.preset), list(PRESETS), n=1)
+                raise DeckError(f"{path}.preset", f"unknown preset {self.preset!r}{'; did you mean ' + repr(near[0]) + '?' if near else ''} (allowed: {', '.join(PRESETS)})")
+            base = preset(self.preset)
+            user_iso = isinstance(explicit.get("elastic"), dict) and explicit["elastic"].get("type") == "isotropic"
+            if user_iso and "shear_modulus" not in explicit:
+                base.pop("shear_modulus", None)      # the user's isotropic elasticity replaces the preset's G
+            for k, v in base.items():
+                if k not in explicit:
+                    setattr(self, k, v)
+                elif isinstance(v, dict) and isinstance(explicit[k], dict) and explicit[k].get("type", v.get("type")) == v.get("type"):
+                    setattr(self, k, {**v, **explicit[k]})     # override single fields of a preset model
+        if self.density is None:
+            raise DeckError(f"{path}.density", "is required (kg/m^3, > 0) unless a preset gives it")
+        self.density = number(self.density, f"{path}.density", 0, 1e5, lo_open=True)
+        if self.elastic is not None:
+            self._model("elastic", ELASTIC_KEYS, path)
+            e = self.elastic
+            if e["type"] == "isotropic":
+                if self.shear_modulus is not None:
+                    raise DeckError(f"{path}.shear_modulus", "given together with elastic: {type: isotropic}; keep one: either elastic {E, nu} or shear_modulus (with an eos)")
+                number(e["E"], f"{path}.elastic.E", 0, None, lo_open=True)
+                number(e["nu"], f"{path}.elastic.nu", -1, 0.5, lo_open=True)
+                if e["nu"] >= 0.5:
+                    raise DeckError(f"{path}.elastic.nu", f"{e['nu']} is out of range; allowed (-1, 0.5)")
+            else:
+                for k in ELASTIC_KEYS["orthotropic"][1:7]:
+                    number(e[k], f"{path}.elastic.{k}", 0, None, lo_open=True)
+                for k in ("nu12", "nu13", "nu23"):
+                    number(e[k], f"{path}.elastic.{k}", -1, None, lo_open=True)
+                ev = np.linalg.eigvalsh(orthotropic_stiffness(e))
+                if ev.min() <= 0:
+                    raise DeckError(f"{path}.elastic", "orthotropic stiffness is not positive definite (check the Poisson ratios: "
+                                    "need 1 - nu12 nu21 - nu23 nu32 - nu13 nu31 - 2 nu21 nu32 nu13 > 0 and nu_ij^2 < E_i/E_j)")
+        for k in ("eos", "strength", "failure"):
+            if getattr(self, k) is not None:
+                self._model(k, MODEL_KEYS[k], path)
+        if self.shear_modulus is not None:
+            self.shear_modulus = number(self.shear_modulus, f"{path}.shear_modulus", 0, None, lo_open=True)
+        if self.specific_heat is not None:
+            self.specific_heat = number(self.specific_heat, f"{path}.specific_heat", 0, None, lo_open=True)
+        if self.strengths is not None:
+            check_keys(self.strengths, ("Xt", "Xc", "Yt", "Yc", "S12", "S23"), f"{path}.strengths")
+            for k, v in self.strengths.items():
+                number(v, f"{path}.strengths.{k}", 0, None, lo_open=True)
+        return self
+
+    def _model(self, key, table, path):
+        m = getattr(self, key)
+        if not isinstance(m, dict) or "type" not in m:
+            raise DeckError(f"{path}.{key}", f"must be a mapping with a type from {'|'.join(table)}")
+        if m["type"] not in table:
+            raise DeckError(f"{path}.{key}.type", f"unknown {key} type {m['type']!r}; allowed: {'|'.join(table)}")
+        check_keys(m, table[m["type"]], f"{path}.{key}")
+        for k, v in m.items():
+            if k != "type":
+                number(v, f"{path}.{key}.{k}")
+        required = {"isotropic": ("E", "nu"), "orthotropic": ELASTIC_KEYS["orthotropic"][1:], "mie-gruneisen": ("c0", "s", "gamma0"),
+                    "johnson-cook": ("A", "B", "n", "C", "m", "T_melt") if key == "strength" else ("D1", "D2", "D3", "D4", "D5"),
+                    "elastic-plastic": ("yield_stress",), "none": ()}[m["type"]]
+        for k in required:
+            if k not in m:
+                raise DeckError(f"{path}.{key}.{k}", f"is required for {key} type {m['type']}")
+
+    @property
+    def anisotropic(self):
+        return isinstance(self.elastic, dict) and self.elastic.get("type") == "orthotropic"
+
+
+@dataclass
+class Frame:
+    origin: List[float]
+    axis3: List[float]     # a point on the 3-axis (stacking direction)
+    plane13: List[float]   # a point in the 1-3 plane
+
+    KEYS = ("origin", "axis3", "plane13")
+
+    def axes(self, dim, path="frame"):
+        o = vector(self.origin, dim, f"{path}.origin")
+        a = vector(self.axis3, dim, f"{path}.axis3")
+        p = vector(self.plane13, dim, f"{path}.plane13")
+        return _layup.frame_axes(o, a, p, dim, path)
+
+
+@dataclass
+class Ply:
+    material: str
+    thickness: float                            # m
+    rotations: list = field(default_factory=list)   # [[axis 1|2|3, degrees], ...] at most 2
+
+    KEYS = ("material", "thickness", "rotations")
+
+
+@dataclass
+class Laminate:
+    frame: Frame
+    size: List[float]                # [L1] in 2D, [L1, L2] in 3D (m)
+    plies: List[Ply] = field(default_factory=list)
+
+    KEYS = ("frame", "size", "plies", "layup", "ply_thickness", "ply_material")
+
+    @staticmethod
+    def from_layup(frame, size, layup, ply_thickness, ply_material, path="laminate"):
+        angles = _layup.parse_layup(layup, f"{path}.layup")
+        return Laminate(frame, size, [Ply(ply_material, ply_thickness, [[3, a]]) for a in angles])
+
+
+@dataclass
+class Box:
+    lower: List[float]
+    upper: List[float]
+    KEYS = ("lower", "upper")
+
+
+@dataclass
+class Sphere:
+    center: List[float]
+    radius: float
+    KEYS = ("center", "radius")
+
+
+@dataclass
+class Cylinder:
+    base: List[float]      # centre of the base face (m)
+    axis: List[float]      # direction (normalised here)
+    radius: float
+    length: float
+    KEYS = ("base", "axis", "radius", "length")
+
+
+SHAPES = {"laminate": Laminate, "box": Box, "sphere": Sphere, "cylinder": Cylinder}
+
+
+@dataclass
+class Body:
+    name: str
+    laminate: Optional[Laminate] = None
+    box: Optional[Box] = None
+    sphere: Optional[Sphere] = None
+    cylinder: Optional[Cylinder] = None
+    material: Optional[str] = None       # for box, sphere, cylinder
+    velocity: Optional[List[float]] = None   # m/s
+    subdivision: int = 1
+    volume_tolerance: float = 1e-6
+    sliver_fraction: float = 1e-6
+    priority: Optional[int] = None
+    clip: bool = False
+
+    KEYS = ("name", "laminate", "box", "sphere", "cylinder", "material", "velocity", "subdivision",
+            "volume_tolerance", "sliver_fraction", "priority", "clip")
+
+    @property
+    def kind(self):
+        return next(k for k in SHAPES if getattr(self, k) is not None)
+
+
+@dataclass
+class Scene:
+    dimension: int
+    grid: Grid
+    materials: List[Material]
+    bodies: List[Body]
+
+    KEYS = ("dimension", "grid", "materials", "bodies")
+
+    # ------------------------------------------------------------ checks --
+    def validate(self):
+        """Check every value; fills defaults and derived geometry.  Returns self."""
+        if self.dimension not in (2, 3) or isinstance(self.dimension, bool):
+            raise DeckError("dimension", f"must be 2 (plane strain) or 3, got {self.dimension!r}")
+        dim = self.dimension
+        self.grid.validate(dim)
+        if not self.materials:
+            raise DeckError("materials", "at least one material is required")
+        names = {}
+        for i, m in enumerate(self.materials):
+            m.validate(f"materials[{i}]")
+            if m.name in names:
+                raise DeckError(f"materials[{i}].name", f"{m.name!r} is already materials[{names[m.name]}]")
+            names[m.name] = i
+        if not self.bodies:
+            raise DeckError("bodies", "at least one body is required")
+        bnames = {}
+        for i, b in enumerate(self.bodies):
+            self._validate_body(b, f"bodies[{i}]", names)
+            if b.name in bnames:
+                raise DeckError(f"bodies[{i}].name", f"{b.name!r} is already bodies[{bnames[b.name]}]")
+            bnames[b.name] = i
+        return self
+
+    def _material_id(self, name, path, names):
+        if name not in names:
+            import difflib
+            near = difflib.get_close_matches(str(name), list(names), n=1)
+            raise DeckError(path, f"unknown material {name!r}{'; did you mean ' + repr(near[0]) + '?' if near else ''} (defined: {', '.join(names)})")
+        return names[name]
+
+    def _validate_body(self, b, path, names):
+        dim = self.dimension
+        if not isinstance(b.name, str) or not b.name:
+            raise DeckError(f"{path}.name", f"must be a non-empty string, got {b.name!r}")
+        shapes = [k for k in SHAPES if getattr(b, k) is not None]
+        if len(shapes) != 1:
+            raise DeckError(path, f"needs exactly one shape of {', '.join(SHAPES)}; got {shapes or 'none'}")
+        b.subdivision = number(b.subdivision, f"{path}.subdivision", 1, 64, integer=True)
+        b.volume_tolerance = number(b.volume_tolerance, f"{path}.volume_tolerance", 1e-12, 0.1)
+        b.sliver_fraction = number(b.sliver_fraction, f"{path}.sliver_fraction", 0, 0.5)
+        if b.priority is not None:
+            b.priority = number(b.priority, f"{path}.priority", -10**6, 10**6, integer=True)
+        if not isinstance(b.clip, bool):
+            raise DeckError(f"{path}.clip", f"must be true or false, got {b.clip!r}")
+        b.velocity = vector(b.velocity if b.velocity is not None else [0.0] * dim, dim, f"{path}.velocity")
+        L = self.grid.upper[0] - self.grid.lower[0]
+        k = b.kind
+        if k == "laminate":
+            if b.material is not None:
+                raise DeckError(f"{path}.material", "a laminate takes its materials from its plies; remove this key")
+            lam = b.laminate
+            lp = f"{path}.laminate"
+            b._axes = lam.frame.axes(dim, f"{lp}.frame")
+            if not isinstance(lam.size, (list, tuple)) or len(lam.size) != dim - 1:
+                raise DeckError(f"{lp}.size", f"must be a list of {dim - 1} lengths (extent along axis 1{' and axis 2' if dim == 3 else ''}), got {lam.size!r}")
+            lam.size = [number(s, f"{lp}.size[{i}]", 0, None, lo_open=True) for i, s in enumerate(lam.size)]
+            if not lam.plies:
+                raise DeckError(f"{lp}.plies", "a laminate needs at least one ply")
+            b._ply_axes, b._ply_mat, z = [], [], [0.0]
+            for j, p in enumerate(lam.plies):
+                pp = f"{lp}.plies[{j}]"
+                t = number(p.thickness, f"{pp}.thickness", 0, None, lo_open=True)
+                z.append(z[-1] + t)
+                b._ply_mat.append(self._material_id(p.material, f"{pp}.material", names))
+                b._ply_axes.append(_layup.rotate_axes(b._axes, p.rotations, f"{pp}.rotations"))
+            b._z = z
+        else:
+            if b.material is None:
+                raise DeckError(f"{path}.material", f"is required for a {k} body")
+            b._mat = self._material_id(b.material, f"{path}.material", names)
+            sp = f"{path}.{k}"
+            if k == "box":
+                lo = vector(b.box.lower, dim, f"{sp}.lower")
+                hi = vector(b.box.upper, dim, f"{sp}.upper")
+                for i in range(dim):
+                    if hi[i] <= lo[i]:
+                        raise DeckError(f"{sp}.upper[{i}]", f"{hi[i]} must be > lower[{i}] = {lo[i]}")
+                b.box.lower, b.box.upper = lo, hi
+            elif k == "sphere":
+                b.sphere.center = vector(b.sphere.center, dim, f"{sp}.center")
+                b.sphere.radius = number(b.sphere.radius, f"{sp}.radius", 0, None, lo_open=True)
+            else:
+                c = b.cylinder
+                c.base = vector(c.base, dim, f"{sp}.base")
+                a = np.array(vector(c.axis, dim, f"{sp}.axis"))
+                if np.linalg.norm(a) == 0:
+                    raise DeckError(f"{sp}.axis", "must be a non-zero direction")
+                c.axis = list(a / np.linalg.norm(a))
+                c.radius = number(c.radius, f"{sp}.radius", 0, None, lo_open=True)
+                c.length = number(c.length, f"{sp}.length", 0, None, lo_open=True)
+
+    @property
+    def anisotropic(self):
+        return any(m.anisotropic for m in self.materials)
+
+    # ------------------------------------------------------------- decks --
+    def to_yaml(self):
+        """The scene as deck text (SI units), loadable by deck.load_text()."""
+        import dataclasses
+        import yaml
+
+        def clean(o):
+            if dataclasses.is_dataclass(o):
+                return {k: clean(v) for k, v in dataclasses.asdict(o).items() if v is not None and v != {}}
+            if isinstance(o, dict):
+                return {k: clean(v) for k, v in o.items() if v is not None}
+            if isinstance(o, (list, tuple)):
+                return [clean(v) for v in o]
+            if isinstance(o, np.generic):
+                return o.item()
+            return o
+        d = clean(self)
+        return "# plyshock deck; SI units (m, kg, s, Pa, K)\n" + yaml.safe_dump(d, sort_keys=False)
+
+    @staticmethod
+    def from_dict(d):
+        """A scene from a parsed deck (unknown keys are errors)."""
+        check_keys(d, Scene.KEYS + ("run", "gauges"), "")
+        for k in ("dimension", "grid", "materials", "bodies"):
+            if k not in d:
+                raise DeckError(k, "is required")
+        g = d["grid"]
+        check_keys(g, Grid.KEYS, "grid")
+        for k in ("lower", "upper", "cells"):
+            if k not in g:
+                raise DeckError(f"grid.{k}", "is required")
+        grid = Grid(**g)
+        if not isinstance(d["materials"], list):
+            raise DeckError("materials", "must be a list of materials")
+        mats = []
+        for i, m in enumerate(d["materials"]):
+            check_keys(m, Material.KEYS, f"materials[{i}]")
+            if "name" not in m:
+                raise DeckError(f"materials[{i}].name", "is required")
+            mats.append(Material(**m))
+        if not isinstance(d["bodies"], list):
+            raise DeckError("bodies", "must be a list of bodies")
+        bodies = []
+        for i, b in enumerate(d["bodies"]):
+            path = f"bodies[{i}]"
+            check_keys(b, Body.KEYS, path)
+            if "name" not in b:
+                raise DeckError(f"{path}.name", "is required")
+            kw = dict(b)
+            for k, cls in SHAPES.items():
+                if k not in kw:
+                    continue
+                sp = f"{path}.{k}"
+                check_keys(kw[k], cls.KEYS, sp)
+                if k == "laminate":
+                    kw[k] = _laminate_from_dict(kw[k], sp)
+                else:
+                    for key in cls.KEYS:
+                        if key not in kw[k]:
+                            raise DeckError(f"{sp}.{key}", "is required")
+                    kw[k] = cls(**kw[k])
+            bodies.append(Body(**kw))
+        return Scene(d["dimension"], grid, mats, bodies)
+
+
+def _laminate_from_dict(d, path):
+    for k in ("frame", "size"):
+        if k not in d:
+            raise DeckError(f"{path}.{k}", "is required")
+    check_keys(d["frame"], Frame.KEYS, f"{path}.frame")
+    for k in Frame.KEYS:
+        if k not in d["frame"]:
+            raise DeckError(f"{path}.frame.{k}", "is required (a point)")
+    frame = Frame(**d["frame"])
+    short = [k for k in ("layup", "ply_thickness", "ply_material") if k in d]
+    if short and "plies" in d:
+        raise DeckError(f"{path}.layup", "give either plies or layup/ply_thickness/ply_material, not both")
+    if short:
+        for k in ("layup", "ply_thickness", "ply_material"):
+            if k not in d:
+                raise DeckError(f"{path}.{k}", "is required with layup")
+        return Laminate.from_layup(frame, d["size"], d["layup"], d["ply_thickness"], d["ply_material"], path)
+    if "plies" not in d or not isinstance(d["plies"], list):
+        raise DeckError(f"{path}.plies", "is required: a list of {material, thickness, rotations}, or use layup")
+    plies = []
+    for j, p in enumerate(d["plies"]):
+        check_keys(p, Ply.KEYS, f"{path}.plies[{j}]")
+        for k in ("material", "thickness"):
+            if k not in p:
+                raise DeckError(f"{path}.plies[{j}].{k}", "is required")
+        plies.append(Ply(**p))
+    return Laminate(frame, d["size"], plies)

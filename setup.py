@@ -1,0 +1,57 @@
+"""Build plyshock: the C solver in src/ and the petsc4py front end in python/plyshock.
+
+Builds against Debian's PETSc 3.18 (PETSC_DIR, default /usr/lib/petsc) and its
+petsc4py.  Install with `pip install --no-build-isolation -e .` so pip never
+fetches a second PETSc from PyPI (see README).
+"""
+import os
+import re
+
+from setuptools import Extension, setup
+from Cython.Build import cythonize
+import petsc4py
+
+PETSC_DIR = os.environ.get("PETSC_DIR", "/usr/lib/petsc")
+PETSC_ARCH = os.environ.get("PETSC_ARCH", "")
+
+
+def petsc_variables():
+    """PETSc's include and link flags from its petscvariables."""
+    path = os.path.join(PETSC_DIR, PETSC_ARCH, "lib", "petsc", "conf", "petscvariables")
+    if not os.path.exists(path):
+        raise SystemExit(f"PETSc not found: {path} does not exist; set PETSC_DIR (Debian: apt-get install petsc-dev)")
+    out = {}
+    with open(path) as f:
+        for line in f:
+            m = re.match(r"^(\w+)\s*=\s*(.*)$", line.strip())
+            if m:
+                out[m.group(1)] = m.group(2)
+    return out
+
+
+v = petsc_variables()
+includes = [p[2:] for p in v.get("PETSC_CC_INCLUDES", "").split() if p.startswith("-I")]
+libdirs = [p[2:] for p in v.get("PETSC_WITH_EXTERNAL_LIB", "").split() if p.startswith("-L")][:2]
+sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in ("clip.c", "geom.c", "insert.c", "markers.c", "io.c")]
+
+ext = Extension(
+    "plyshock._core",
+    sources=sources,
+    include_dirs=["src", petsc4py.get_include()] + includes + ["/usr/lib/x86_64-linux-gnu/openmpi/include"],
+    library_dirs=libdirs,
+    runtime_library_dirs=libdirs,
+    libraries=["petsc_real", "hdf5", "mpi"],
+    extra_compile_args=["-O3", "-std=c99", "-Wno-unused-function"],
+    depends=["src/plyshock.h", "src/geom.h", "src/clip.h"],
+)
+
+setup(
+    name="plyshock",
+    version="0.1.0",
+    description="Exact layered-composite marker insertion and shock-physics MPM on PETSc",
+    package_dir={"": "python"},
+    packages=["plyshock"],
+    ext_modules=cythonize([ext], language_level=3),
+    entry_points={"console_scripts": ["plyshock = plyshock.cli:main"]},
+    python_requires=">=3.9",
+)

@@ -1,0 +1,116 @@
+/*
+  markers.c - the marker swarm: which fields a scene needs, and which cells a
+  rank owns.
+
+  The swarm is DMSWARM_BASIC (see ../shared/NOTES.md: PIC migration with a
+  DMDA cell DM loses markers in PETSc 3.18); owners are computed from the DMDA
+  ownership ranges.  Cell c (between nodes c and c+1) belongs to the rank that
+  owns node c, so the last rank in each direction owns one cell fewer than nodes.
+*/
+#include "plyshock.h"
+
+typedef struct {
+  const char   *name;
+  PetscInt      bs;    /* block size; -1 = dim */
+  PetscDataType type;
+} PSField;
+
+/* Every field a marker may carry, and when it is registered. */
+static PetscBool FieldNeeded(const PSScene *scene, const char *name)
+{
+  PetscInt b;
+  if (!strcmp(name, PS_FIELD_AXES)) return scene->anisotropic;
+  if (!strcmp(name, PS_FIELD_PLY)) {
+    for (b = 0; b < scene->nbody; b++)
+      if (scene->bodies[b].kind == PS_BODY_LAMINATE) return PETSC_TRUE;
+    return PETSC_FALSE;
+  }
+  return PETSC_TRUE;
+}
+
+static const PSField PSFields[] = {
+  {PS_FIELD_X,        -1, PETSC_REAL },
+  {PS_FIELD_VELOCITY, -1, PETSC_REAL },
+  {PS_FIELD_MASS,     1,  PETSC_REAL },
+  {PS_FIELD_VOLUME,   1,  PETSC_REAL },
+  {PS_FIELD_AXES,     9,  PETSC_REAL },
+  {PS_FIELD_ID,       1,  PETSC_INT64},
+  {PS_FIELD_BODY,     1,  PETSC_INT  },
+  {PS_FIELD_PLY,      1,  PETSC_INT  },
+  {PS_FIELD_MATERIAL, 1,  PETSC_INT  },
+};
+
+/* Register the scene's fields on a fresh swarm. */
+PetscErrorCode PSMarkersRegisterFields(const PSScene *scene, DM sw, PetscInt *bytes_per_marker)
+{
+  size_t   f;
+  PetscInt bytes = 0, bs;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmInitializeFieldRegister(sw));
+  for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
+    if (!FieldNeeded(scene, PSFields[f].name)) continue;
+    bs = PSFields[f].bs < 0 ? scene->dim : PSFields[f].bs;
+    PetscCall(DMSwarmRegisterPetscDatatypeField(sw, PSFields[f].name, bs, PSFields[f].type));
+  }
+  PetscCall(DMSwarmFinalizeFieldRegister(sw));
+  /* what the swarm adds itself is counted once local sizes are set */
+  if (bytes_per_marker) {
+    PetscCall(PSMarkersBytes(scene, NULL, &bytes));
+    *bytes_per_marker = bytes;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Bytes per marker: every registered field, the swarm's own fields included.
+   With sw == NULL, what the scene would register (for `plyshock check`). */
+PetscErrorCode PSMarkersBytes(const PSScene *scene, DM sw, PetscInt *bytes)
+{
+  size_t        f, sz;
+  PetscInt      bs;
+  PetscDataType type;
+  const char   *own[] = {DMSwarmField_pid, DMSwarmField_rank};
+
+  PetscFunctionBeginUser;
+  *bytes = 0;
+  for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
+    if (!FieldNeeded(scene, PSFields[f].name)) continue;
+    bs = PSFields[f].bs < 0 ? scene->dim : PSFields[f].bs;
+    PetscCall(PetscDataTypeGetSize(PSFields[f].type, &sz));
+    *bytes += bs * (PetscInt)sz;
+  }
+  for (f = 0; f < 2; f++) {
+    if (sw) {
+      void *ptr;
+      PetscCall(DMSwarmGetField(sw, own[f], &bs, &type, &ptr));
+      PetscCall(DMSwarmRestoreField(sw, own[f], &bs, &type, &ptr));
+    } else {
+      bs   = 1;
+      type = f == 0 ? PETSC_INT64 : PETSC_INT;
+    }
+    PetscCall(PetscDataTypeGetSize(type, &sz));
+    *bytes += bs * (PetscInt)sz;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Cells owned by this rank: [cs, ce) per direction (ce = cs + 1 unused dims). */
+PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3])
+{
+  PetscInt xs[3], xm[3], M[3], dim, d;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(da, &dim));
+  PetscCall(DMDAGetCorners(da, &xs[0], &xs[1], &xs[2], &xm[0], &xm[1], &xm[2]));
+  PetscCall(DMDAGetInfo(da, NULL, &M[0], &M[1], &M[2], NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  for (d = 0; d < 3; d++) {
+    if (d >= dim) {
+      cs[d] = 0;
+      ce[d] = 1;
+      continue;
+    }
+    cs[d] = xs[d];
+    ce[d] = PetscMin(xs[d] + xm[d], M[d] - 1);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,111 @@
+/*
+  plyshock.h - public C API of the plyshock solver.
+
+  plyshock follows Schumacher, Bruner, Harstad & Key, "Modeling layered
+  composite materials using MPM in an Eulerian shock physics code" (Sandia):
+  material points (markers) ride through a fixed Eulerian grid (a DMDA) and are
+  held in a DMSwarm.  Each ply of a laminate is inserted exactly: the piece of a
+  (sub-)cell that the ply cuts out is a convex polygon/polyhedron whose exact
+  area/volume and centroid give the marker's mass and position.
+
+  Units are SI throughout: m, kg, s, Pa, K.
+
+  Naming: suffix _p for per-marker quantities, _c for cells, _i for grid nodes.
+*/
+#ifndef PLYSHOCK_H
+#define PLYSHOCK_H
+
+#include <petscdmda.h>
+#include <petscdmswarm.h>
+
+#define PLYSHOCK_VERSION "0.1.0"
+
+/* PETSc 3.18 returns plain 0; PETSC_SUCCESS arrived in 3.19 */
+#if !PETSC_VERSION_GE(3, 19, 0)
+  #define PETSC_SUCCESS 0
+#endif
+
+typedef enum {
+  PS_BODY_LAMINATE = 0,
+  PS_BODY_BOX      = 1,
+  PS_BODY_SPHERE   = 2,
+  PS_BODY_CYLINDER = 3
+} PSBodyKind;
+
+/* One body of a scene.  Filled by the Python front end (python/plyshock/core.py),
+   validated there before it reaches C. */
+typedef struct {
+  PSBodyKind kind;
+  PetscInt   material;         /* material id of a non-laminate body (plies carry their own) */
+  PetscInt   priority;         /* the higher priority wins an overlap */
+  PetscInt   subdivision;      /* sub-cells per cell and direction, >= 1 */
+  PetscReal  volume_tolerance; /* relative volume tolerance of curved bodies (-) */
+  PetscReal  sliver_fraction;  /* pieces below this fraction of their sub-cell are merged (-) */
+  PetscReal  velocity[3];      /* initial velocity (m/s) */
+  /* laminate and box: an oriented box origin + [0,size_a] e_a (m); e[a] unit axes */
+  PetscReal  origin[3];        /* m */
+  PetscReal  e[3][3];          /* frame axes 1, 2, 3 as unit vectors in x, y, z */
+  PetscReal  size[3];          /* extents along axes 1, 2, 3 (m); laminate: L1, L2, total thickness */
+  PetscInt   nply;             /* laminate plies (0 for other bodies) */
+  PetscReal *z;                /* nply + 1 ply interfaces along axis 3 from the origin (m) */
+  PetscInt  *ply_material;     /* nply material ids */
+  PetscReal *ply_axes;         /* nply x 9: material axes 1, 2, 3 of each ply (unit vectors) */
+  /* sphere (a disk in 2D) and cylinder */
+  PetscReal center[3];         /* sphere centre, cylinder base centre (m) */
+  PetscReal axis[3];           /* cylinder unit axis */
+  PetscReal radius;            /* m */
+  PetscReal length;            /* cylinder length along axis (m) */
+} PSBody;
+
+/* The scene: grid, materials, bodies.  Owned by the caller. */
+typedef struct {
+  PetscInt   dim;             /* 2 (plane strain, per metre of depth) or 3 */
+  PetscReal  lower[3];        /* domain lower corner (m) */
+  PetscReal  upper[3];        /* domain upper corner (m) */
+  PetscInt   cells[3];        /* cells per direction */
+  PetscInt   nmaterial;
+  PetscReal *density;         /* kg/m^3, per material */
+  PetscBool  anisotropic;     /* some material needs material axes on its markers */
+  PetscInt   nbody;
+  PSBody    *bodies;
+} PSScene;
+
+/* Counts of an insertion, per rank or reduced over ranks. */
+typedef struct {
+  PetscInt64 pieces;          /* non-empty (sub-cell, body, ply) pieces */
+  PetscInt64 markers;         /* markers made */
+  PetscInt64 slivers_merged;  /* pieces below sliver_fraction merged into a neighbour */
+  PetscInt64 slivers_kept;    /* slivers with no neighbour of the same ply in the cell */
+} PSInsertStats;
+
+/* Marker fields; registered only when a scene needs them. */
+#define PS_FIELD_X        "x"        /* position (m), dim reals */
+#define PS_FIELD_MASS     "mass"     /* m_p (kg; per metre of depth in 2D) */
+#define PS_FIELD_VOLUME   "volume"   /* V_p (m^3; m^2 in 2D) */
+#define PS_FIELD_VELOCITY "v"        /* v_p (m/s), dim reals */
+#define PS_FIELD_AXES     "axes"     /* material axes 1, 2, 3: 9 reals, anisotropic scenes only */
+#define PS_FIELD_BODY     "body"     /* body id */
+#define PS_FIELD_PLY      "ply"      /* ply id, -1 outside laminates; scenes with laminates only */
+#define PS_FIELD_MATERIAL "material" /* material id */
+#define PS_FIELD_ID       "id"       /* global marker id, unique for the marker's life (int64) */
+
+/* geometry (geom.c): no PETSc objects are made */
+PETSC_EXTERN PetscErrorCode PSBodyBoundingBox(const PSScene *, PetscInt b, PetscReal lo[3], PetscReal hi[3]);
+PETSC_EXTERN PetscReal      PSBodyVolume(const PSScene *, PetscInt b);
+PETSC_EXTERN PetscErrorCode PSOverlapVolume(const PSScene *, PetscInt a, PetscInt b, PetscReal *vol);
+PETSC_EXTERN PetscErrorCode PSBodyDomainVolume(const PSScene *, PetscInt b, PetscReal *vol);
+
+/* insertion (insert.c) */
+PETSC_EXTERN PetscErrorCode PSInitializePackage(void);
+PETSC_EXTERN PetscErrorCode PSCountPieces(const PSScene *, const PetscInt cs[3], const PetscInt ce[3], PetscInt64 *n_body_ply);
+PETSC_EXTERN PetscErrorCode PSInsertMarkers(const PSScene *, DM da, DM sw, PSInsertStats *);
+
+/* markers (markers.c) */
+PETSC_EXTERN PetscErrorCode PSMarkersRegisterFields(const PSScene *, DM sw, PetscInt *bytes_per_marker);
+PETSC_EXTERN PetscErrorCode PSMarkersBytes(const PSScene *, DM sw, PetscInt *bytes);
+PETSC_EXTERN PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3]);
+
+/* output (io.c) */
+PETSC_EXTERN PetscErrorCode PSWriteMarkers(const PSScene *, DM sw, const char filename[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
+
+#endif
