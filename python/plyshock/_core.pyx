@@ -67,6 +67,9 @@ cdef extern from "plyshock.h":
     PetscErrorCode PSInsertMarkers(const PSScene *, PetscDM, PetscDM, PSInsertStats *)
     PetscErrorCode PSMarkersBytes(const PSScene *, PetscDM, PetscInt *)
     PetscErrorCode PSCellOwnership(PetscDM, PetscInt *, PetscInt *)
+    PetscErrorCode DMSwarmGetField(PetscDM, const char *, PetscInt *, int *, void **)
+    PetscErrorCode DMSwarmRestoreField(PetscDM, const char *, PetscInt *, int *, void **)
+    PetscErrorCode DMSwarmGetLocalSize(PetscDM, PetscInt *)
     PetscErrorCode PSWriteMarkers(const PSScene *, PetscDM, const char *, PetscInt, const char **, const char **, const char **, const char **)
 
 KIND = {"laminate": PS_BODY_LAMINATE, "box": PS_BODY_BOX, "sphere": PS_BODY_SPHERE, "cylinder": PS_BODY_CYLINDER}
@@ -215,6 +218,25 @@ cdef class CScene:
         mn = _Strings(material_names)
         fn = filename.encode()
         CHK(PSWriteMarkers(&self.s, sw.dm, fn, len(attrs), names.ptr, values.ptr, bn.ptr, mn.ptr))
+
+
+def get_int64_field(DM sw, str name):
+    """A copy of an int64 swarm field (petsc4py 3.18 cannot map PETSC_INT64)."""
+    cdef PetscInt n = 0, bs = 0
+    cdef int dtype = 0
+    cdef void *ptr = NULL
+    cdef PetscInt64[::1] out
+    cdef PetscInt64 *p
+    cdef Py_ssize_t i
+    bname = name.encode()
+    CHK(DMSwarmGetLocalSize(sw.dm, &n))
+    CHK(DMSwarmGetField(sw.dm, bname, &bs, &dtype, &ptr))
+    out = np.empty(n * bs, dtype=np.int64)
+    p = <PetscInt64 *>ptr
+    for i in range(n * bs):
+        out[i] = p[i]
+    CHK(DMSwarmRestoreField(sw.dm, bname, &bs, &dtype, &ptr))
+    return np.asarray(out).reshape(n, bs)
 
 
 def initialize():

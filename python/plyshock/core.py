@@ -142,12 +142,17 @@ def initialize(scene, cs=None, comm=None):
 
 
 def local_fields(m, names):
-    """Copies of this rank's marker fields, reshaped (n, bs)."""
+    """Copies of this rank's marker fields, shaped (n, block size)."""
+    from . import _core
+    bs = {"x": m.scene.dimension, "v": m.scene.dimension, "axes": 9}
+    n = m.sw.getLocalSize()
     out = {}
     for name in names:
+        if name == "id":
+            out[name] = _core.get_int64_field(m.sw, name)
+            continue
         f = m.sw.getField(name)
-        n = m.sw.getLocalSize()
-        out[name] = np.array(f).reshape(n, -1) if n else np.array(f).reshape(0, 1)
+        out[name] = np.array(f).reshape(n, bs.get(name, 1))
         m.sw.restoreField(name)
     return out
 

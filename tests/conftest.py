@@ -1,0 +1,70 @@
+"""Test harness: runs under `mpiexec -n 2` (scripts/test).
+
+Collective tests use PETSc.COMM_WORLD in process; tests that compare rank
+counts launch `mpiexec -n k plyshock ...` from rank 0 with the parent's
+OMPI_*/PMIX_* variables removed, and broadcast the result.
+"""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import pytest
+
+import petsc4py
+
+petsc4py.init(sys.argv[:1])
+from petsc4py import PETSc  # noqa: E402
+from mpi4py import MPI  # noqa: E402
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.join(ROOT, "examples"))
+sys.path.insert(0, os.path.dirname(__file__))
+COMM = MPI.COMM_WORLD
+
+
+@pytest.fixture
+def comm():
+    return COMM
+
+
+@pytest.fixture
+def tmpdir_mpi():
+    """One temporary directory shared by all ranks, removed afterwards."""
+    d = tempfile.mkdtemp(prefix="plyshock-") if COMM.rank == 0 else None
+    d = COMM.bcast(d, root=0)
+    yield d
+    COMM.Barrier()
+    if COMM.rank == 0:
+        shutil.rmtree(d, ignore_errors=True)
+
+
+def clean_env():
+    """The environment without the parent mpiexec's variables (a nested
+    mpiexec refuses to start otherwise)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "PMI_", "OPAL_", "HYDRA_"))}
+    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1",
+               OMPI_MCA_btl_vader_single_copy_mechanism="none")
+    return env
+
+
+def run_cli(args, ranks=None, timeout=300):
+    """Run `plyshock ARGS` (under `mpiexec -n ranks` when given) on rank 0;
+    every rank gets (returncode, stdout, stderr)."""
+    out = None
+    if COMM.rank == 0:
+        exe = os.path.join(ROOT, ".venv", "bin", "plyshock")
+        cmd = ([shutil.which("mpiexec"), "-n", str(ranks)] if ranks else []) + [exe] + list(args)
+        p = subprocess.run(cmd, env=clean_env(), capture_output=True, text=True, timeout=timeout, cwd=ROOT)
+        out = (p.returncode, p.stdout, p.stderr)
+    return COMM.bcast(out, root=0)
+
+
+@pytest.fixture(autouse=True)
+def _sync():
+    """Ranks leave each test together; PETSc garbage is collected."""
+    yield
+    import gc
+    gc.collect()
+    COMM.Barrier()
