@@ -41,6 +41,9 @@ def setup(cells=(240, 160), subdivision=2, layup="[0/90/90/0]", ply_thickness=0.
                  [plate, flyer])
 
 
+# the picture frames the impact region (m)
+ZOOM = [0.022, 0.014, 0.038, 0.027]
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("-o", "--output", default="out/oblique_plate_2d.h5")
@@ -48,4 +51,4 @@ if __name__ == "__main__":
     ap.add_argument("--cells", type=int, nargs=2, default=(240, 160))
     a, petsc = ap.parse_known_args()
     from plyshock.cli import run_scene
-    sys.exit(run_scene(setup(cells=a.cells), a.output, a.png, petsc))
+    sys.exit(run_scene(setup(cells=a.cells), a.output, a.png, petsc, zoom=ZOOM))

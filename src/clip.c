@@ -71,23 +71,24 @@ void PSPoly2Moments(const PSPoly2 *p, double m[3])
 
 /* ---------------------------------------------------------------- 3D ---- */
 
+/* Vertex v = i + 2j + 4k sits at (lo|hi)(i,j,k); its neighbours differ in one
+   bit, ordered so that det(nb0 - v, nb1 - v, nb2 - v) has the same sign at
+   every vertex: one orientation for all faces. */
+static const int PSBoxNb[8][3] = {
+  {1, 2, 4}, {0, 5, 3}, {3, 6, 0}, {2, 1, 7}, {5, 0, 6}, {4, 7, 1}, {7, 4, 2}, {6, 3, 5}
+};
+
 void PSPoly3InitBox(PSPoly3 *p, const double lo[3], const double hi[3])
 {
   int v;
-
-  /* vertex v = i + 2j + 4k sits at (lo|hi)(i,j,k); its neighbours differ in one
-     bit.  The three are ordered so that det(nb0 - v, nb1 - v, nb2 - v) has the
-     same sign at every vertex: one orientation for all faces. */
   p->nv = 8;
   for (v = 0; v < 8; v++) {
-    const int i = v & 1, j = (v >> 1) & 1, k = (v >> 2) & 1;
-    const int s = (i ? -1 : 1) * (j ? -1 : 1) * (k ? -1 : 1);
-    p->v[v].x[0] = i ? hi[0] : lo[0];
-    p->v[v].x[1] = j ? hi[1] : lo[1];
-    p->v[v].x[2] = k ? hi[2] : lo[2];
-    p->v[v].nb[0] = v ^ 1;
-    p->v[v].nb[1] = s > 0 ? v ^ 2 : v ^ 4;
-    p->v[v].nb[2] = s > 0 ? v ^ 4 : v ^ 2;
+    p->v[v].x[0]  = v & 1 ? hi[0] : lo[0];
+    p->v[v].x[1]  = v & 2 ? hi[1] : lo[1];
+    p->v[v].x[2]  = v & 4 ? hi[2] : lo[2];
+    p->v[v].nb[0] = PSBoxNb[v][0];
+    p->v[v].nb[1] = PSBoxNb[v][1];
+    p->v[v].nb[2] = PSBoxNb[v][2];
   }
 }
 

@@ -13,20 +13,21 @@
 
 /* --------------------------------------------------------- half-spaces -- */
 
-/* Test {n.x <= d} (absolute d) against the box with centre c and half sides a;
-   a cutting plane is appended relative to ref.  Returns PS_IN when the box lies
-   inside (to PS_TOUCH_TOL of the box size), PS_OUT when outside. */
-static inline PSCut PlaneTest(PetscInt dim, const double n[3], double d, const double c[3], const double a[3], const double ref[3], PSPlane *pl, int *np)
+/* Test {n.x <= d} (absolute d) against the box with centre c and half sides
+   a; a cutting plane is appended relative to c (the reference point of every
+   clip).  PS_IN when the box lies inside (to PS_TOUCH_TOL of the box size),
+   PS_OUT when outside. */
+#define PS_INLINE static inline __attribute__((always_inline))
+PS_INLINE PSCut PlaneTest(const int dim, const double n[3], double d, const double c[3], const double a[3], PSPlane *pl, int *np)
 {
-  double proj = 0.0, ext = 0.0, dr = d;
+  double ext = 0.0, dr = d;
   int    i;
   for (i = 0; i < dim; i++) {
-    proj += n[i] * (c[i] - ref[i]);
     ext += fabs(n[i]) * a[i];
-    dr -= n[i] * ref[i];
+    dr -= n[i] * c[i];
   }
-  if (proj + ext <= dr + PS_TOUCH_TOL * ext) return PS_IN;
-  if (proj - ext >= dr - PS_TOUCH_TOL * ext) return PS_OUT;
+  if (ext <= dr + PS_TOUCH_TOL * ext) return PS_IN;
+  if (-ext >= dr - PS_TOUCH_TOL * ext) return PS_OUT;
   pl[*np].n[0] = n[0];
   pl[*np].n[1] = n[1];
   pl[*np].n[2] = dim == 3 ? n[2] : 0.0;
@@ -50,14 +51,16 @@ static inline int BoxAxes(PetscInt dim, int ax[3])
   return 3;
 }
 
-/* Region against a box: flat planes exact, a curved surface by one plane
-   (see PSPieceMoments for when it is used). *curved is set when the box is cut by
-   a curved surface and is larger than the region's h_fine. */
-static PSCut RegionPlanes(PetscInt dim, const PSRegion *r, const double lo[3], const double hi[3], const double ref[3], PSPlane *pl, int *np, int *curved)
+/* Region against a box: flat planes exact (precomputed in PSRegionSetup), a
+   curved surface by one plane (see PSPieceMoments for when it is used).
+   *curved is set when the box is cut by a curved surface and is larger than the
+   region's h_fine: the caller bisects.  The cutting planes are relative to the
+   box centre. */
+PS_INLINE PSCut RegionPlanes(const int dim, const PSRegion *r, const double lo[3], const double hi[3], PSPlane *pl, int *np, int *curved)
 {
   const PSBody *B = r->body;
   double        c[3] = {0, 0, 0}, a[3] = {0, 0, 0}, hmax = 0.0;
-  int           i;
+  int           i, k;
 
   *np     = 0;
   *curved = 0;
@@ -66,26 +69,12 @@ static PSCut RegionPlanes(PetscInt dim, const PSRegion *r, const double lo[3], c
     a[i] = 0.5 * (hi[i] - lo[i]);
     hmax = PetscMax(hmax, hi[i] - lo[i]);
   }
+  for (k = 0; k < r->nflat; k++)
+    if (PlaneTest(dim, r->flat[k].n, r->flat[k].d, c, a, pl, np) == PS_OUT) return PS_OUT;
   switch (B->kind) {
   case PS_BODY_LAMINATE:
-  case PS_BODY_BOX: {
-    int ax[3], na = BoxAxes(dim, ax), k;
-    for (k = 0; k < na; k++) {
-      const double *e  = B->e[ax[k]];
-      double        lb = 0.0, ub = B->size[ax[k]], eo = 0.0, mn[3];
-      if (ax[k] == 2 && r->ply >= 0) {
-        lb = B->z[r->ply];
-        ub = B->z[r->ply + 1];
-      }
-      for (i = 0; i < dim; i++) eo += e[i] * B->origin[i];
-      mn[0] = -e[0];
-      mn[1] = -e[1];
-      mn[2] = -e[2];
-      if (PlaneTest(dim, e, eo + ub, c, a, ref, pl, np) == PS_OUT) return PS_OUT;
-      if (PlaneTest(dim, mn, -(eo + lb), c, a, ref, pl, np) == PS_OUT) return PS_OUT;
-    }
+  case PS_BODY_BOX:
     return *np ? PS_CUT : PS_IN;
-  }
   case PS_BODY_SPHERE: {
     const double R = B->radius;
     double       dn2 = 0.0, df2 = 0.0, u[3] = {0, 0, 0}, un = 0.0, sag = 0.0;
@@ -117,22 +106,14 @@ static PSCut RegionPlanes(PetscInt dim, const PSRegion *r, const double lo[3], c
     {
       double d = R - sag;
       for (i = 0; i < dim; i++) d += u[i] * B->center[i];
-      if (PlaneTest(dim, u, d, c, a, ref, pl, np) == PS_OUT) return PS_OUT;
+      if (PlaneTest(dim, u, d, c, a, pl, np) == PS_OUT) return PS_OUT;
     }
     return *np ? PS_CUT : PS_IN;
   }
   case PS_BODY_CYLINDER: {
     const double *ax = B->axis, R = B->radius;
-    double        s0 = 0.0, mn[3] = {-ax[0], -ax[1], -ax[2]};
-    for (i = 0; i < dim; i++) s0 += ax[i] * B->center[i];
-    /* caps: 0 <= a.(x - base) <= L, exact */
-    if (PlaneTest(dim, ax, s0 + B->length, c, a, ref, pl, np) == PS_OUT) return PS_OUT;
-    if (PlaneTest(dim, mn, -s0, c, a, ref, pl, np) == PS_OUT) return PS_OUT;
+    /* caps (and the 2D section's sides) were tested as flat planes above */
     if (dim == 2) {
-      /* a 2D cylinder is its axial section: |t.(x - base)| <= R, exact */
-      double t[3] = {-ax[1], ax[0], 0.0}, mt[3] = {ax[1], -ax[0], 0.0}, tb = t[0] * B->center[0] + t[1] * B->center[1];
-      if (PlaneTest(dim, t, tb + R, c, a, ref, pl, np) == PS_OUT) return PS_OUT;
-      if (PlaneTest(dim, mt, -(tb - R), c, a, ref, pl, np) == PS_OUT) return PS_OUT;
       return *np ? PS_CUT : PS_IN;
     } else {
       /* mantle: distance to the axis line is convex, so its maximum over the
@@ -172,7 +153,7 @@ static PSCut RegionPlanes(PetscInt dim, const PSRegion *r, const double lo[3], c
       {
         double d = R - sag;
         for (i = 0; i < 3; i++) d += u[i] * B->center[i];
-        if (PlaneTest(dim, u, d, c, a, ref, pl, np) == PS_OUT) return PS_OUT;
+        if (PlaneTest(dim, u, d, c, a, pl, np) == PS_OUT) return PS_OUT;
       }
       return *np ? PS_CUT : PS_IN;
     }
@@ -181,14 +162,27 @@ static PSCut RegionPlanes(PetscInt dim, const PSRegion *r, const double lo[3], c
   return PS_OUT;
 }
 
-/* OUT, IN or CUT of a region against a box, without the planes. */
+/* OUT, IN or CUT of a region against a box, without the planes.  Flat
+   regions need only the extent of the box along each face normal. */
 PSCut PSRegionClassify(PetscInt dim, const PSRegion *r, const double lo[3], const double hi[3])
 {
   PSPlane pl[PS_MAX_REGION_PLANES];
-  double  ref[3] = {0, 0, 0};
-  int     np, curved, i;
-  for (i = 0; i < dim; i++) ref[i] = 0.5 * (lo[i] + hi[i]);
-  return RegionPlanes(dim, r, lo, hi, ref, pl, &np, &curved);
+  int     np, curved, k, i, cut = 0;
+
+  if (r->body->kind == PS_BODY_LAMINATE || r->body->kind == PS_BODY_BOX) {
+    for (k = 0; k < r->nflat; k++) {
+      double ext = 0.0, dr = r->flat[k].d;
+      for (i = 0; i < dim; i++) {
+        const double c = 0.5 * (lo[i] + hi[i]), a = 0.5 * (hi[i] - lo[i]);
+        ext += fabs(r->flat[k].n[i]) * a;
+        dr -= r->flat[k].n[i] * c;
+      }
+      if (-ext >= dr - PS_TOUCH_TOL * ext) return PS_OUT;
+      if (ext > dr + PS_TOUCH_TOL * ext) cut = 1;
+    }
+    return cut ? PS_CUT : PS_IN;
+  }
+  return dim == 3 ? RegionPlanes(3, r, lo, hi, pl, &np, &curved) : RegionPlanes(2, r, lo, hi, pl, &np, &curved);
 }
 
 /* The size of box at which a curved cut is replaced by its plane.  With the
@@ -199,15 +193,57 @@ PSCut PSRegionClassify(PetscInt dim, const PSRegion *r, const double lo[3], cons
    more (tests/test_insert.py checks tolerances 1e-3 to 1e-9). */
 void PSRegionSetup(const PSScene *scene, const PSBody *B, PetscInt ply, PetscReal cell_h, PSRegion *r)
 {
+  const PetscInt dim = scene->dim;
+  int            i, k;
+
   r->body   = B;
   r->ply    = ply;
+  r->nflat  = 0;
   r->h_fine = PETSC_MAX_REAL;
-  if (B->kind == PS_BODY_SPHERE || (B->kind == PS_BODY_CYLINDER && scene->dim == 3)) {
-    if (B->kind == PS_BODY_SPHERE && scene->dim == 3) r->h_fine = 0.5 * B->radius * pow(B->volume_tolerance, 0.25);
+  if (B->kind == PS_BODY_SPHERE || (B->kind == PS_BODY_CYLINDER && dim == 3)) {
+    if (B->kind == PS_BODY_SPHERE && dim == 3) r->h_fine = 0.5 * B->radius * pow(B->volume_tolerance, 0.25);
     else r->h_fine = 0.5 * B->radius * sqrt(1e3 * B->volume_tolerance);
     /* never refine deeper than PS_MAX_LEVEL below the sub-cell */
     r->h_fine = PetscMax(r->h_fine, cell_h / (double)(1 << PS_MAX_LEVEL));
   }
+  /* the flat faces, as half-spaces {n.x <= d} */
+#define ADD_PLANE(nx, ny, nz, dd) \
+  do { \
+    r->flat[r->nflat].n[0] = (nx); \
+    r->flat[r->nflat].n[1] = (ny); \
+    r->flat[r->nflat].n[2] = (nz); \
+    r->flat[r->nflat].d    = (dd); \
+    r->nflat++; \
+  } while (0)
+  if (B->kind == PS_BODY_LAMINATE || B->kind == PS_BODY_BOX) {
+    /* an oriented box: lb <= e_a.(x - origin) <= ub along its bounding axes;
+       a ply replaces the axis-3 bounds by its interfaces */
+    int ax[3], na = BoxAxes(dim, ax);
+    for (k = na - 1; k >= 0; k--) { /* axis 3 first: the slab rejects most boxes */
+      const double *e  = B->e[ax[k]];
+      double        lb = 0.0, ub = B->size[ax[k]], eo = 0.0;
+      if (ax[k] == 2 && ply >= 0) {
+        lb = B->z[ply];
+        ub = B->z[ply + 1];
+      }
+      for (i = 0; i < dim; i++) eo += e[i] * B->origin[i];
+      ADD_PLANE(e[0], e[1], e[2], eo + ub);
+      ADD_PLANE(-e[0], -e[1], -e[2], -(eo + lb));
+    }
+  } else if (B->kind == PS_BODY_CYLINDER) {
+    /* caps: 0 <= a.(x - base) <= L; a 2D cylinder is its axial section, |t.(x - base)| <= R */
+    const double *a  = B->axis;
+    double        s0 = 0.0;
+    for (i = 0; i < dim; i++) s0 += a[i] * B->center[i];
+    ADD_PLANE(a[0], a[1], a[2], s0 + B->length);
+    ADD_PLANE(-a[0], -a[1], -a[2], -s0);
+    if (dim == 2) {
+      const double tb = -a[1] * B->center[0] + a[0] * B->center[1];
+      ADD_PLANE(-a[1], a[0], 0.0, tb + B->radius);
+      ADD_PLANE(a[1], -a[0], 0.0, -(tb - B->radius));
+    }
+  }
+#undef ADD_PLANE
 }
 
 /* ---------------------------------------------------------- piece kernel -- */
@@ -267,10 +303,14 @@ static void Subtract3(PSPoly3 *P, int j, int nsub, const PSPlaneSet *sub, const 
   }
 }
 
+static void PieceMoments2(const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4]);
+static void PieceMoments3(const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4]);
+
 /* Adds to m[0] the area/volume and to m[1..dim] the first moment of
    box ∩ in[0] ∩ ... ∩ in[nin-1] \ (sub[0] ∪ ... ∪ sub[nsub-1]).
-   Curved regions bisect the box until it is no larger than their h_fine. */
-void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4])
+   Curved regions bisect the box until it is no larger than their h_fine.
+   Written once for both dimensions, compiled twice with dim a constant. */
+PS_INLINE void PieceMomentsT(const int dim, const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4])
 {
   PSPlane    pin[PS_MAX_REGION_PLANES * 2];
   PSPlaneSet ps[PS_MAX_SUB];
@@ -282,7 +322,7 @@ void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int ni
   /* classify; keep only the regions that cut this box */
   for (k = 0; k < nin; k++) {
     int   np, curved;
-    PSCut s = RegionPlanes(dim, &in[k], lo, hi, ref, pin + npin, &np, &curved);
+    PSCut s = RegionPlanes(dim, &in[k], lo, hi, pin + npin, &np, &curved);
     if (s == PS_OUT) return;
     if (s == PS_IN) continue;
     npin += np;
@@ -291,7 +331,7 @@ void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int ni
   }
   for (k = 0; k < nsub; k++) {
     int   curved;
-    PSCut s = RegionPlanes(dim, &sub[k], lo, hi, ref, ps[nsub2].pl, &ps[nsub2].np, &curved);
+    PSCut s = RegionPlanes(dim, &sub[k], lo, hi, ps[nsub2].pl, &ps[nsub2].np, &curved);
     if (s == PS_IN) return;
     if (s == PS_OUT) continue;
     refine |= curved;
@@ -307,7 +347,8 @@ void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int ni
         clo[i]           = (c >> i) & 1 ? mid : lo[i];
         chi[i]           = (c >> i) & 1 ? hi[i] : mid;
       }
-      PSPieceMoments(dim, clo, chi, nin2, in2, nsub2, sub2, m);
+      if (dim == 2) PieceMoments2(clo, chi, nin2, in2, nsub2, sub2, m);
+      else PieceMoments3(clo, chi, nin2, in2, nsub2, sub2, m);
     }
     return;
   }
@@ -347,6 +388,22 @@ void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int ni
       Subtract3(&P, 0, nsub2, ps, ref, m);
     }
   }
+}
+
+static void PieceMoments2(const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4])
+{
+  PieceMomentsT(2, lo, hi, nin, in, nsub, sub, m);
+}
+
+static void PieceMoments3(const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4])
+{
+  PieceMomentsT(3, lo, hi, nin, in, nsub, sub, m);
+}
+
+void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4])
+{
+  if (dim == 2) PieceMoments2(lo, hi, nin, in, nsub, sub, m);
+  else PieceMoments3(lo, hi, nin, in, nsub, sub, m);
 }
 
 /* ------------------------------------------------------- whole bodies -- */
@@ -421,8 +478,13 @@ void PSSubCellBounds(const PSScene *scene, const PetscInt idx[3], PetscInt s, co
     const double h  = (scene->upper[d] - scene->lower[d]) / scene->cells[d];
     const double c0 = scene->lower[d] + idx[d] * h;
     const double c1 = idx[d] + 1 == scene->cells[d] ? scene->upper[d] : scene->lower[d] + (idx[d] + 1) * h;
-    lo[d]           = q[d] == 0 ? c0 : c0 + q[d] * ((c1 - c0) / s);
-    hi[d]           = q[d] + 1 == s ? c1 : c0 + (q[d] + 1) * ((c1 - c0) / s);
+    if (s == 1) {
+      lo[d] = c0;
+      hi[d] = c1;
+      continue;
+    }
+    lo[d] = q[d] == 0 ? c0 : c0 + q[d] * ((c1 - c0) / s);
+    hi[d] = q[d] + 1 == s ? c1 : c0 + (q[d] + 1) * ((c1 - c0) / s);
   }
 }
 
@@ -482,27 +544,23 @@ PetscErrorCode PSOverlapVolume(const PSScene *scene, PetscInt a, PetscInt b, Pet
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Volume of body b inside the grid domain (curved bodies to their tolerance),
-   by the same kernel over the body's cells. */
+/* Volume of body b inside the grid domain: the kernel applied once to the
+   whole domain box (one exact clip for flat bodies; curved ones bisect down to
+   their h_fine along the surface only). */
 PetscErrorCode PSBodyDomainVolume(const PSScene *scene, PetscInt b, PetscReal *vol)
 {
-  PetscReal lo[3], hi[3], h[3] = {0, 0, 0}, m[4] = {0, 0, 0, 0};
-  PetscInt  cs[3], ce[3], i, j, k, dim = scene->dim;
-  PSRegion  r;
+  double   lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, m[4] = {0, 0, 0, 0}, h = 0.0;
+  PetscInt d;
+  PSRegion r;
 
   PetscFunctionBeginUser;
-  PetscCall(PSBodyBoundingBox(scene, b, lo, hi));
-  for (i = 0; i < dim; i++) h[i] = (scene->upper[i] - scene->lower[i]) / scene->cells[i];
-  PSRegionSetup(scene, &scene->bodies[b], -1, PetscMax(PetscMax(h[0], h[1]), h[2]), &r);
-  PSCellRange(scene, lo, hi, cs, ce);
-  for (k = cs[2]; k < ce[2]; k++)
-    for (j = cs[1]; j < ce[1]; j++)
-      for (i = cs[0]; i < ce[0]; i++) {
-        double   clo[3] = {0, 0, 0}, chi[3] = {0, 0, 0};
-        PetscInt idx[3] = {i, j, k}, q0[3] = {0, 0, 0};
-        PSSubCellBounds(scene, idx, 1, q0, clo, chi);
-        PSPieceMoments(dim, clo, chi, 1, &r, 0, NULL, m);
-      }
+  for (d = 0; d < scene->dim; d++) {
+    lo[d] = scene->lower[d];
+    hi[d] = scene->upper[d];
+    h     = PetscMax(h, (hi[d] - lo[d]) / scene->cells[d]);
+  }
+  PSRegionSetup(scene, &scene->bodies[b], -1, h, &r);
+  PSPieceMoments(scene->dim, lo, hi, 1, &r, 0, NULL, m);
   *vol = m[0];
   PetscFunctionReturn(PETSC_SUCCESS);
 }

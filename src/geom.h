@@ -25,6 +25,8 @@ typedef struct {
   const PSBody *body;
   PetscInt      ply;     /* ply id, or -1 for the whole body */
   PetscReal     h_fine;  /* largest box side at which a curved cut is made planar (m) */
+  int           nflat;   /* flat faces of the region ... */
+  PSPlane       flat[6]; /* ... as half-spaces n.x <= d (absolute) */
 } PSRegion;
 
 typedef enum {

@@ -9,6 +9,7 @@ Bad input exits with status 2 and a message naming the deck key.
 """
 import argparse
 import os
+import re
 import sys
 import time
 
@@ -51,9 +52,9 @@ def main(argv=None):
     k = 0
     while k < len(argv):
         a = argv[k]
-        if a.startswith("-") and not a.startswith("--") and len(a) > 2 and a not in ("-o",):
+        if re.match(r"^-[A-Za-z_]\w+", a):
             petsc.append(a)
-            if k + 1 < len(argv) and not argv[k + 1].startswith("-"):
+            if k + 1 < len(argv) and not re.match(r"^-[A-Za-z_]", argv[k + 1]):
                 petsc.append(argv[k + 1])
                 k += 1
         else:
@@ -110,21 +111,21 @@ def _check(scene):
     return 0
 
 
-def run_scene(scene, output, png=None, petsc_args=(), axis=1):
-    """`plyshock init` for a Scene built in Python (the examples)."""
+def run_scene(scene, output, png=None, petsc_args=(), axis=1, zoom=None):
+    """`plyshock init` for a Scene built in Python (the examples); zoom frames the picture."""
     from .errors import DeckError
     try:
         scene.validate()
         import petsc4py
         petsc4py.init([sys.argv[0]] + list(petsc_args))
-        return _init(scene, scene.to_yaml(), output, png, axis)
+        return _init(scene, scene.to_yaml(), output, png, axis, zoom)
     except DeckError as e:
         if _rank() == 0:
             print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
         return 2
 
 
-def _init(scene, text, output, png=None, axis=1):
+def _init(scene, text, output, png=None, axis=1, zoom=None):
     from petsc4py import PETSc
     from . import core
     t0 = time.perf_counter()
@@ -146,7 +147,7 @@ def _init(scene, text, output, png=None, axis=1):
     _print0(f"wrote {output} and {os.path.splitext(output)[0]}.xmf")
     if png and PETSc.COMM_WORLD.getRank() == 0:
         from .post import plot_markers
-        plot_markers(output, png, axis=axis)
+        plot_markers(output, png, axis=axis, zoom=zoom)
         print(f"wrote {png}", flush=True)
     return 0
 

@@ -48,30 +48,39 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
     p = pv.Plotter(off_screen=True, window_size=window)
     p.set_background("white")
     key = {"ply": ply, "body": d["body"], "material": d["material"]}[color]
-    names = {"ply": None, "body": d["body_names"], "material": d["material_names"]}[color]
+    labels = {"ply": None, "body": d["body_names"], "material": d["material_names"]}[color]
+    # categorical colours: one per ply (body, material), fixed by id so pictures compare
+    from matplotlib import colormaps
+    from matplotlib.colors import ListedColormap
+    ncat = int(key[lam].max()) + 1 if lam.any() else 1
+    base = colormaps["tab10"].colors
+    cmap = ListedColormap([base[i % 10] for i in range(ncat)])
+    names = labels or [f"{i}" for i in range(ncat)]
+    bar = {"title": color, "color": "black", "n_labels": 0, "n_colors": ncat}
+    notes = {float(i): f"{color} {names[i]}" for i in range(ncat)}
     if lam.any() and f"axis{axis}" in d:
         idx = np.flatnonzero(lam)[::max(1, every)]
         a = d[f"axis{axis}"][idx]
-        if dim == 2:
-            # out-of-plane fibres (90° plies in a 2D section) show as dots: the in-plane projection
-            pass
+        # a line along the axis through each marker; an axis out of the 2D plane
+        # (90° plies in a cross-section) projects to a dot
         lines = np.empty((2 * len(idx), 3))
         lines[0::2] = X[idx] - 0.45 * h * a
         lines[1::2] = X[idx] + 0.45 * h * a
         mesh = pv.line_segments_from_points(lines)
         mesh.cell_data[color] = key[idx].astype(float)
-        p.add_mesh(mesh, scalars=color, cmap="tab10", line_width=2, show_scalar_bar=True,
-                   scalar_bar_args={"title": color, "color": "black", "fmt": "%.0f", "n_labels": min(10, int(key[idx].max()) + 1)})
+        p.add_mesh(mesh, scalars=color, cmap=cmap, clim=[-0.5, ncat - 0.5], line_width=2, show_scalar_bar=True,
+                   scalar_bar_args=bar, annotations=notes)
         pts = pv.PolyData(X[idx])
         pts.point_data[color] = key[idx].astype(float)
-        p.add_mesh(pts, scalars=color, cmap="tab10", point_size=3, render_points_as_spheres=False, show_scalar_bar=False)
+        p.add_mesh(pts, scalars=color, cmap=cmap, clim=[-0.5, ncat - 0.5], point_size=3, show_scalar_bar=False)
     elif lam.any():
         pts = pv.PolyData(X[lam])
         pts.point_data[color] = key[lam].astype(float)
-        p.add_mesh(pts, scalars=color, cmap="tab10", point_size=4)
+        p.add_mesh(pts, scalars=color, cmap=cmap, clim=[-0.5, ncat - 0.5], point_size=4, scalar_bar_args=bar,
+                   annotations=notes)
     if other.any():
         pts = pv.PolyData(X[other])
-        p.add_mesh(pts, color="dimgray", point_size=3)
+        p.add_mesh(pts, color="dimgray", point_size=6, render_points_as_spheres=True)
         # body names at the centre of each non-laminate body
         for b in np.unique(d["body"][other]):
             c = X[other & (d["body"] == b)].mean(axis=0)
@@ -81,7 +90,11 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
     if dim == 2:
         p.view_xy()
     else:
-        p.view_isometric()
+        # look at the low-x, low-y faces: in a quarter model these are the
+        # symmetry cuts, which show the plies in section
+        c = X[keep].mean(axis=0) if keep.any() else np.zeros(3)
+        p.camera_position = [tuple(c + np.array([-1.0, -0.75, 0.6])), tuple(c), (0, 0, 1)]
+        p.reset_camera()
     p.show_axes()
     p.screenshot(png)
     p.close()

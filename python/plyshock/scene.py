@@ -60,8 +60,8 @@ MODEL_KEYS = {
 }
 
 
-def orthotropic_stiffness(p):
-    """6x6 stiffness (Voigt 11,22,33,23,13,12) from engineering constants, Pa."""
+def orthotropic_compliance(p):
+    """6x6 compliance S (Voigt 11,22,33,23,13,12, 1/Pa); the stiffness is S^-1, positive definite exactly when S is."""
     E1, E2, E3 = p["E1"], p["E2"], p["E3"]
     n12, n13, n23 = p["nu12"], p["nu13"], p["nu23"]
     S = np.zeros((6, 6))
@@ -124,7 +124,7 @@ class Material:
                     number(e[k], f"{path}.elastic.{k}", 0, None, lo_open=True)
                 for k in ("nu12", "nu13", "nu23"):
                     number(e[k], f"{path}.elastic.{k}", -1, None, lo_open=True)
-                ev = np.linalg.eigvalsh(orthotropic_stiffness(e))
+                ev = np.linalg.eigvalsh(orthotropic_compliance(e))
                 if ev.min() <= 0:
                     raise DeckError(f"{path}.elastic", "orthotropic stiffness is not positive definite (check the Poisson ratios: "
                                     "need 1 - nu12 nu21 - nu23 nu32 - nu13 nu31 - 2 nu21 nu32 nu13 > 0 and nu_ij^2 < E_i/E_j)")
