@@ -34,7 +34,7 @@ def setup(cell=0.5e-3, subdivision=1, layup="[0/90/90/0]", ply_thickness=0.5e-3,
 
 
 # the picture frames the impact region (m)
-ZOOM = [0, 0, -1e-3, 8e-3, 8e-3, 10e-3]
+ZOOM = [0, 0, -1e-3, 6e-3, 6e-3, 10e-3]
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])

@@ -95,6 +95,31 @@ static PetscErrorCode ListDestroy(PSMarkerList *L)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Narrow the cells [i0, i1) of row (j, k) to those a flat hull can touch: each
+   face n.x <= d bounds x on the row, since the cell centre's n.x is linear in
+   i.  Conservative by one cell; the exact test per cell follows. */
+static void RowRange(const PSScene *scene, const PSRegion *hull, PetscInt j, PetscInt k, const double h[3], PetscInt *i0, PetscInt *i1)
+{
+  const PetscInt dim = scene->dim;
+  int            f;
+  for (f = 0; f < hull->nflat; f++) {
+    const double *n = hull->flat[f].n;
+    double        rest = hull->flat[f].d, ext = 0.0, x;
+    int           d;
+    for (d = 0; d < dim; d++) ext += 0.5 * fabs(n[d]) * h[d];
+    rest += ext - n[1] * (scene->lower[1] + (j + 0.5) * h[1]) - (dim == 3 ? n[2] * (scene->lower[2] + (k + 0.5) * h[2]) : 0.0);
+    /* cells whose centre x satisfies n_x x <= rest can meet the half-space */
+    if (n[0] == 0.0) {
+      if (rest < 0.0) *i1 = *i0;
+      continue;
+    }
+    x = (rest / n[0] - scene->lower[0]) / h[0] - 0.5;
+    if (n[0] > 0.0) *i1 = PetscMin(*i1, (PetscInt)PetscMax(-1.0, PetscMin(floor(x) + 2.0, 1e9)));
+    else *i0 = PetscMax(*i0, (PetscInt)PetscMin(1e9, PetscMax(ceil(x) - 1.0, -1.0)));
+  }
+  if (*i1 < *i0) *i1 = *i0;
+}
+
 /* The insertion kernel over cells [cs, ce).  L may be NULL (count only); counts
    per (body, ply) go to count_bp[b * (maxply + 1) + ply + 1] when given. */
 static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], const PetscInt ce[3], PSMarkerList *L, PetscInt64 *count_bp, PSInsertStats *st)
@@ -142,8 +167,10 @@ static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], c
     nmax = nsc * nreg;
     PetscCall(PetscMalloc1(nmax, &pc));
     for (k = bcs[2]; k < bce[2]; k++)
-      for (j = bcs[1]; j < bce[1]; j++)
-        for (i = bcs[0]; i < bce[0]; i++) {
+      for (j = bcs[1]; j < bce[1]; j++) {
+        PetscInt i0 = bcs[0], i1 = bce[0];
+        RowRange(scene, &hull, j, k, h, &i0, &i1);
+        for (i = i0; i < i1; i++) {
           PetscInt idx[3] = {i, j, k}, q0[3] = {0, 0, 0}, q, p, pp;
           double   clo[3] = {0, 0, 0}, chi[3] = {0, 0, 0};
 
@@ -212,6 +239,7 @@ static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], c
             PetscCall(ListPush(L, pc[p].m, scene->density[mat], (S * scene->nbody + b) * (maxply + 1) + ply + 1, b, ply, mat));
           }
         }
+      }
     PetscCall(PetscFree(pc));
     PetscCall(PetscFree(reg));
   }

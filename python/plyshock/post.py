@@ -93,7 +93,7 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
         # look at the low-x, low-y faces: in a quarter model these are the
         # symmetry cuts, which show the plies in section
         c = X[keep].mean(axis=0) if keep.any() else np.zeros(3)
-        p.camera_position = [tuple(c + np.array([-1.0, -0.75, 0.6])), tuple(c), (0, 0, 1)]
+        p.camera_position = [tuple(c + np.array([1.0, 0.75, 0.6])), tuple(c), (0, 0, 1)]
         p.reset_camera()
     p.show_axes()
     p.screenshot(png)

@@ -373,7 +373,7 @@ class Scene:
                 return o.item()
             return o
         d = clean(self)
-        return "# plyshock deck; SI units (m, kg, s, Pa, K)\n" + yaml.safe_dump(d, sort_keys=False)
+        return "# plyshock deck; SI units (m, kg, s, Pa, K)\n" + yaml.safe_dump(d, sort_keys=False, default_flow_style=None)
 
     @staticmethod
     def from_dict(d):
