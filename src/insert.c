@@ -315,6 +315,40 @@ PetscErrorCode PSInsertMarkers(const PSScene *scene, DM da, DM sw, PSInsertStats
     }
   }
   if (axes) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&axes));
+  /* solver state at rest: F = I, V0 = V, no stress, no energy, T = T0 */
+  {
+    const PetscInt ns = PSStressComponents(dim);
+    PetscReal     *F, *V0, *sig, *sdev, *pr, *q, *e, *T = NULL, *ep = NULL, *D = NULL;
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_F, NULL, NULL, (void **)&F));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sig));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_SDEV, NULL, NULL, (void **)&sdev));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_Q, NULL, NULL, (void **)&q));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&e));
+    if (scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&T));
+    if (scene->need_plastic) PetscCall(DMSwarmGetField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&ep));
+    if (scene->need_damage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&D));
+    for (p = 0; p < n; p++) {
+      for (d = 0; d < dim * dim; d++) F[p * dim * dim + d] = (d % (dim + 1) == 0) ? 1.0 : 0.0;
+      for (d = 0; d < ns; d++) sig[p * ns + d] = sdev[p * ns + d] = 0.0;
+      V0[p] = L.vol[p];
+      pr[p] = q[p] = e[p] = 0.0;
+      if (T) T[p] = scene->T0[L.mat[p]];
+      if (ep) ep[p] = 0.0;
+      if (D) D[p] = 0.0;
+    }
+    if (D) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&D));
+    if (ep) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&ep));
+    if (T) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&T));
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&e));
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_Q, NULL, NULL, (void **)&q));
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_SDEV, NULL, NULL, (void **)&sdev));
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sig));
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_F, NULL, NULL, (void **)&F));
+  }
   if (ply) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&ply));
   PetscCall(DMSwarmRestoreField(sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
   PetscCall(DMSwarmRestoreField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));

@@ -11,15 +11,28 @@
 
 typedef struct {
   const char   *name;
-  PetscInt      bs;    /* block size; -1 = dim */
+  PetscInt      bs;    /* block size; -1 = dim, -2 = dim^2, -3 = stress components */
   PetscDataType type;
 } PSField;
+
+static PetscInt BlockSize(PetscInt bs, PetscInt dim)
+{
+  return bs == -1 ? dim : bs == -2 ? dim * dim : bs == -3 ? PSStressComponents(dim) : bs;
+}
+
+PetscInt PSStressComponents(PetscInt dim)
+{
+  return dim == 3 ? 6 : 4;
+}
 
 /* Every field a marker may carry, and when it is registered. */
 static PetscBool FieldNeeded(const PSScene *scene, const char *name)
 {
   PetscInt b;
   if (!strcmp(name, PS_FIELD_AXES)) return scene->anisotropic;
+  if (!strcmp(name, PS_FIELD_EPS_P)) return scene->need_plastic;
+  if (!strcmp(name, PS_FIELD_TEMP)) return scene->need_temperature;
+  if (!strcmp(name, PS_FIELD_DAMAGE)) return scene->need_damage;
   if (!strcmp(name, PS_FIELD_PLY)) {
     for (b = 0; b < scene->nbody; b++)
       if (scene->bodies[b].kind == PS_BODY_LAMINATE) return PETSC_TRUE;
@@ -38,6 +51,16 @@ static const PSField PSFields[] = {
   {PS_FIELD_BODY,     1,  PETSC_INT  },
   {PS_FIELD_PLY,      1,  PETSC_INT  },
   {PS_FIELD_MATERIAL, 1,  PETSC_INT  },
+  {PS_FIELD_F,        -2, PETSC_REAL },
+  {PS_FIELD_V0,       1,  PETSC_REAL },
+  {PS_FIELD_STRESS,   -3, PETSC_REAL },
+  {PS_FIELD_SDEV,     -3, PETSC_REAL },
+  {PS_FIELD_PRESSURE, 1,  PETSC_REAL },
+  {PS_FIELD_Q,        1,  PETSC_REAL },
+  {PS_FIELD_ENERGY,   1,  PETSC_REAL },
+  {PS_FIELD_EPS_P,    1,  PETSC_REAL },
+  {PS_FIELD_TEMP,     1,  PETSC_REAL },
+  {PS_FIELD_DAMAGE,   1,  PETSC_REAL },
 };
 
 /* Register the scene's fields on a fresh swarm. */
@@ -50,7 +73,7 @@ PetscErrorCode PSMarkersRegisterFields(const PSScene *scene, DM sw, PetscInt *by
   PetscCall(DMSwarmInitializeFieldRegister(sw));
   for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
     if (!FieldNeeded(scene, PSFields[f].name)) continue;
-    bs = PSFields[f].bs < 0 ? scene->dim : PSFields[f].bs;
+    bs = BlockSize(PSFields[f].bs, scene->dim);
     PetscCall(DMSwarmRegisterPetscDatatypeField(sw, PSFields[f].name, bs, PSFields[f].type));
   }
   PetscCall(DMSwarmFinalizeFieldRegister(sw));
@@ -75,7 +98,7 @@ PetscErrorCode PSMarkersBytes(const PSScene *scene, DM sw, PetscInt *bytes)
   *bytes = 0;
   for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
     if (!FieldNeeded(scene, PSFields[f].name)) continue;
-    bs = PSFields[f].bs < 0 ? scene->dim : PSFields[f].bs;
+    bs = BlockSize(PSFields[f].bs, scene->dim);
     PetscCall(PetscDataTypeGetSize(PSFields[f].type, &sz));
     *bytes += bs * (PetscInt)sz;
   }
@@ -94,7 +117,10 @@ PetscErrorCode PSMarkersBytes(const PSScene *scene, DM sw, PetscInt *bytes)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Cells owned by this rank: [cs, ce) per direction (ce = cs + 1 unused dims). */
+/* Cells owned by this rank: [cs, ce) per direction (ce = cs + 1 unused dims).
+   The DMDA carries PS_PAD nodes outside the domain on each side: cell c lies
+   between DMDA nodes c + PS_PAD and c + PS_PAD + 1 and belongs to the owner of
+   the first. */
 PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3])
 {
   PetscInt xs[3], xm[3], M[3], dim, d;
@@ -109,8 +135,8 @@ PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3])
       ce[d] = 1;
       continue;
     }
-    cs[d] = xs[d];
-    ce[d] = PetscMin(xs[d] + xm[d], M[d] - 1);
+    cs[d] = PetscMax(0, xs[d] - PS_PAD);
+    ce[d] = PetscMax(cs[d], PetscMin(xs[d] + xm[d] - PS_PAD, M[d] - 1 - 2 * PS_PAD));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -66,6 +66,10 @@ typedef struct {
   PetscInt   nmaterial;
   PetscReal *density;         /* kg/m^3, per material */
   PetscBool  anisotropic;     /* some material needs material axes on its markers */
+  PetscBool  need_plastic;    /* some material has a strength model: plastic strain field */
+  PetscBool  need_temperature;/* some material uses temperature (Johnson-Cook): temperature field */
+  PetscBool  need_damage;     /* some material has a failure model: damage field */
+  PetscReal *T0;              /* initial temperature per material (K) */
   PetscInt   nbody;
   PSBody    *bodies;
 } PSScene;
@@ -88,6 +92,18 @@ typedef struct {
 #define PS_FIELD_PLY      "ply"      /* ply id, -1 outside laminates; scenes with laminates only */
 #define PS_FIELD_MATERIAL "material" /* material id */
 #define PS_FIELD_ID       "id"       /* global marker id, unique for the marker's life (int64) */
+/* solver state */
+#define PS_FIELD_F        "F"        /* deformation gradient F_p, dim x dim (row major) */
+#define PS_FIELD_V0       "volume0"  /* initial volume V0_p (m^3; m^2 in 2D) */
+#define PS_FIELD_STRESS   "stress"   /* Cauchy stress without viscosity (Pa), symmetric: 3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy */
+#define PS_FIELD_SDEV     "sdev"     /* unrotated deviatoric stress R^T s R (Pa), same layout */
+#define PS_FIELD_PRESSURE "pressure" /* p (Pa), compression positive */
+#define PS_FIELD_Q        "q"        /* artificial viscosity pressure (Pa) */
+#define PS_FIELD_ENERGY   "energy"   /* specific internal energy e (J/kg) */
+#define PS_FIELD_EPS_P    "plastic_strain" /* equivalent plastic strain (-) */
+#define PS_FIELD_TEMP     "temperature"    /* K */
+#define PS_FIELD_DAMAGE   "damage"         /* Johnson-Cook damage D (-), failed at 1 */
+#define PS_PAD 1 /* grid nodes outside the domain on each side (shape functions reach one cell out) */
 
 /* geometry (geom.c): no PETSc objects are made */
 PETSC_EXTERN PetscErrorCode PSBodyBoundingBox(const PSScene *, PetscInt b, PetscReal lo[3], PetscReal hi[3]);
@@ -104,6 +120,7 @@ PETSC_EXTERN PetscErrorCode PSInsertMarkers(const PSScene *, DM da, DM sw, PSIns
 PETSC_EXTERN PetscErrorCode PSMarkersRegisterFields(const PSScene *, DM sw, PetscInt *bytes_per_marker);
 PETSC_EXTERN PetscErrorCode PSMarkersBytes(const PSScene *, DM sw, PetscInt *bytes);
 PETSC_EXTERN PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3]);
+PETSC_EXTERN PetscInt       PSStressComponents(PetscInt dim);
 
 /* output (io.c) */
 PETSC_EXTERN PetscErrorCode PSWriteMarkers(const PSScene *, DM sw, const char filename[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);

@@ -64,8 +64,9 @@ def test_schema_attributes_and_xmf(tmpdir_mpi):
 
 
 def test_fields_are_lean_for_isotropic_scenes(tmpdir_mpi):
-    iso = Scene(2, Grid([0, 0], [1, 1], [8, 8]), [Material("steel", preset="4340-steel")],
-                [Body("block", box=Box([0.2, 0.2], [0.6, 0.5]), material="steel")]).validate()
+    al = Material("al", density=2700.0, elastic={"type": "isotropic", "E": 70e9, "nu": 0.33})
+    iso = Scene(2, Grid([0, 0], [1, 1], [8, 8]), [al],
+                [Body("block", box=Box([0.2, 0.2], [0.6, 0.5]), material="al")]).validate()
     path = os.path.join(tmpdir_mpi, "iso.h5")
     m = write(iso, path)
     rng = np.random.default_rng(9)
@@ -74,6 +75,12 @@ def test_fields_are_lean_for_isotropic_scenes(tmpdir_mpi):
     # no axes (9 reals) and no ply id (one int) for a scene without anisotropy or laminates
     assert m2.bytes_per_marker - m.bytes_per_marker == 9 * 8 + 4
     assert m.bytes_per_marker == m.cs.marker_bytes(None)     # what `check` reports is what the swarm holds
+    # plastic strain and temperature only with Johnson-Cook strength, damage only with failure
+    steel = Scene(2, iso.grid, [Material("steel", preset="4340-steel")],
+                  [Body("block", box=Box([0.2, 0.2], [0.6, 0.5]), material="steel")]).validate()
+    assert core.initialize(steel).bytes_per_marker - m.bytes_per_marker == 2 * 8
+    steel.materials[0].failure = {"type": "johnson-cook", "D1": 0.05, "D2": 3.44, "D3": -2.12, "D4": 0.002, "D5": 0.61}
+    assert core.initialize(steel.validate()).bytes_per_marker - m.bytes_per_marker == 3 * 8
     with h5py.File(path, "r") as f:
         assert "axis1" not in f["markers"]
         assert np.all(f["markers/ply"][...] == -1)

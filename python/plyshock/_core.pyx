@@ -51,6 +51,10 @@ cdef extern from "plyshock.h":
         PetscInt nmaterial
         PetscReal *density
         PetscBool anisotropic
+        PetscBool need_plastic
+        PetscBool need_temperature
+        PetscBool need_damage
+        PetscReal *T0
         PetscInt nbody
         PSBody *bodies
     ctypedef struct PSInsertStats:
@@ -116,6 +120,13 @@ cdef class CScene:
         for i in range(len(dens)):
             self.s.density[i] = dens[i]
         self.s.anisotropic = PETSC_TRUE if spec["anisotropic"] else PETSC_FALSE
+        self.s.need_plastic = PETSC_TRUE if spec.get("need_plastic") else PETSC_FALSE
+        self.s.need_temperature = PETSC_TRUE if spec.get("need_temperature") else PETSC_FALSE
+        self.s.need_damage = PETSC_TRUE if spec.get("need_damage") else PETSC_FALSE
+        T0 = spec.get("T0", [294.0] * len(dens))
+        self.s.T0 = <PetscReal *>calloc(max(1, len(dens)), sizeof(PetscReal))
+        for i in range(len(dens)):
+            self.s.T0[i] = T0[i]
         bodies = spec["bodies"]
         self.s.nbody = len(bodies)
         self.s.bodies = <PSBody *>calloc(max(1, len(bodies)), sizeof(PSBody))
@@ -161,6 +172,7 @@ cdef class CScene:
                 free(self.s.bodies[i].ply_axes)
         free(self.s.bodies)
         free(self.s.density)
+        free(self.s.T0)
 
     # geometry: no PETSc objects -------------------------------------------
     def bounding_box(self, int b):

@@ -14,6 +14,7 @@ import numpy as np
 from .errors import DeckError
 
 _FACE = {0: ("x-", "x+"), 1: ("y-", "y+"), 2: ("z-", "z+")}
+PAD = 1   # = PS_PAD in src/plyshock.h
 
 
 def scene_to_c(scene):
@@ -46,7 +47,11 @@ def scene_to_c(scene):
         bodies.append(d)
     return dict(dim=dim, lower=pad(scene.grid.lower), upper=pad(scene.grid.upper),
                 cells=list(scene.grid.cells) + [1] * (3 - dim),
-                density=[m.density for m in scene.materials], anisotropic=scene.anisotropic, bodies=bodies)
+                density=[m.density for m in scene.materials], anisotropic=scene.anisotropic, bodies=bodies,
+                need_plastic=any(m.strength is not None and m.strength.get("type") != "none" for m in scene.materials),
+                need_temperature=any((m.strength or {}).get("type") == "johnson-cook" for m in scene.materials),
+                need_damage=any(m.failure is not None for m in scene.materials),
+                T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials])
 
 
 def c_scene(scene):
@@ -129,9 +134,13 @@ def initialize(scene, cs=None, comm=None):
     comm = comm or PETSc.COMM_WORLD
     _core.initialize()
     g, dim = scene.grid, scene.dimension
-    da = PETSc.DMDA().create(dim=dim, dof=1, sizes=tuple(n + 1 for n in g.cells), stencil_width=1,
+    # nodes: cells + 1 plus PAD outside the domain on each side (shape functions
+    # reach one cell out); dof = mass, momentum, force; stencil 2 for GIMP/B-splines
+    dof = 1 + 2 * dim
+    da = PETSc.DMDA().create(dim=dim, dof=dof, sizes=tuple(n + 1 + 2 * PAD for n in g.cells), stencil_width=2,
                              stencil_type=PETSc.DMDA.StencilType.BOX, comm=comm)
-    da.setUniformCoordinates(*[v for a in range(dim) for v in (g.lower[a], g.upper[a])])
+    h = g.h
+    da.setUniformCoordinates(*[v for a in range(dim) for v in (g.lower[a] - PAD * h[a], g.upper[a] + PAD * h[a])])
     sw = PETSc.DMSwarm().create(comm=comm)
     sw.setDimension(dim)
     sw.setType(PETSc.DMSwarm.Type.BASIC)
@@ -183,6 +192,8 @@ def write_markers(m, filename, deck_text):
     opts = " ".join(f"-{k} {v}".strip() for k, v in PETSc.Options().getAll().items())
     attrs = {"deck": deck_text, "code_version": __version__, "petsc_options": opts,
              "ranks": str(comm.getSize()), "command": " ".join(sys.argv), "dimension": str(m.scene.dimension)}
+    # HDF5 writes attributes collectively: every rank must pass the same values
+    attrs = comm.tompi4py().bcast(attrs, root=0)
     m.cs.write(m.sw, filename, attrs, [b.name for b in m.scene.bodies], [x.name for x in m.scene.materials])
     if comm.getRank() == 0:
         write_xmf(filename, m.stats["markers"], m.scene.dimension, m.scene.anisotropic)
