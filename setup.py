@@ -32,7 +32,10 @@ def petsc_variables():
 v = petsc_variables()
 includes = [p[2:] for p in v.get("PETSC_CC_INCLUDES", "").split() if p.startswith("-I")]
 libdirs = [p[2:] for p in v.get("PETSC_WITH_EXTERNAL_LIB", "").split() if p.startswith("-L")][:2]
-sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in ("clip.c", "geom.c", "insert.c", "markers.c", "io.c")]
+sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in (
+    "clip.c", "geom.c", "insert.c", "markers.c", "io.c", "step.c", "run.c",
+    "materials/registry.c", "materials/eos_mie_gruneisen.c", "materials/eos_hypoelastic.c",
+    "materials/strength.c", "materials/failure_johnson_cook.c", "materials/update.c")]
 
 ext = Extension(
     "plyshock._core",
@@ -42,7 +45,7 @@ ext = Extension(
     runtime_library_dirs=libdirs,
     libraries=["petsc_real", "hdf5", "mpi"],
     extra_compile_args=["-O3", "-std=c99", "-Wno-unused-function"],
-    depends=["src/plyshock.h", "src/geom.h", "src/clip.h"],
+    depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/shape.h", "src/materials.h"],
 )
 
 setup(

@@ -10,6 +10,9 @@
     /markers/mass (kg; per metre of depth in 2D)  /markers/volume (m^3; m^2 in 2D)
     /markers/axis1, axis2, axis3 (N x 3; when a material is anisotropic)
     /markers/body, /markers/ply (-1 outside laminates), /markers/material (int32)
+    /markers/stress (N x 3 x 3 Cauchy, Pa, tension positive), /markers/pressure (Pa),
+    /markers/energy (J/kg), and when a material uses them /markers/plastic_strain,
+    /markers/temperature (K), /markers/damage; root attribute time (s)
     attributes: /markers@body_names, /markers@material_names; root: deck,
     version, units, and whatever else the caller passes (petsc options, ranks).
 
@@ -77,7 +80,7 @@ static PetscErrorCode WriteStrings(hid_t obj, const char *name, PetscInt n, cons
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[])
+PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[], PetscReal time, PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[])
 {
   MPI_Comm    comm;
   PetscInt    n, dim = scene->dim, i, a;
@@ -166,6 +169,62 @@ PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[]
     PetscCall(DMSwarmRestoreField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&axes));
     PetscCall(PetscFree(tmp));
   }
+  /* the state: Cauchy stress as N x 3 x 3 (tension positive), pressure, energy, and the optional fields */
+  {
+    const PetscInt ns = PSStressComponents(dim);
+    PetscReal     *sg, *full, *fld;
+    hsize_t        gd[3] = {(hsize_t)N, 3, 3}, ld[3] = {(hsize_t)n, 3, 3}, st[3] = {(hsize_t)off, 0, 0};
+    const char    *scal[][2] = {
+      {PS_FIELD_PRESSURE, "pressure"},
+      {PS_FIELD_ENERGY, "energy"},
+      {PS_FIELD_EPS_P, "plastic_strain"},
+      {PS_FIELD_TEMP, "temperature"},
+      {PS_FIELD_DAMAGE, "damage"}
+    };
+    const PetscBool have[] = {PETSC_TRUE, PETSC_TRUE, scene->need_plastic, scene->need_temperature, scene->need_damage};
+    hid_t           fs, ms, ds, xfer;
+    PetscCall(PetscMalloc1(9 * PetscMax(n, 1), &full));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
+    for (i = 0; i < n; i++) {
+      const PetscReal *v = &sg[i * ns];
+      PetscReal       *S = &full[9 * i];
+      S[0] = v[0];
+      S[4] = v[1];
+      S[8] = v[2];
+      if (dim == 3) {
+        S[5] = S[7] = v[3];
+        S[2] = S[6] = v[4];
+        S[1] = S[3] = v[5];
+      } else {
+        S[1] = S[3] = v[3];
+        S[2] = S[6] = S[5] = S[7] = 0.0;
+      }
+    }
+    PetscCall(DMSwarmRestoreField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
+    fs = H5Screate_simple(3, gd, NULL);
+    ds = H5Dcreate2(grp, "stress", H5T_NATIVE_DOUBLE, fs, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5CHK(ds, "stress");
+    ms = H5Screate_simple(3, ld, NULL);
+    if (n > 0) H5CHK(H5Sselect_hyperslab(fs, H5S_SELECT_SET, st, NULL, ld, NULL), "H5Sselect_hyperslab");
+    else {
+      H5CHK(H5Sselect_none(fs), "H5Sselect_none");
+      H5CHK(H5Sselect_none(ms), "H5Sselect_none");
+    }
+    xfer = H5Pcreate(H5P_DATASET_XFER);
+    H5CHK(H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio");
+    H5CHK(H5Dwrite(ds, H5T_NATIVE_DOUBLE, ms, fs, xfer, full), "H5Dwrite");
+    H5Pclose(xfer);
+    H5Sclose(ms);
+    H5Dclose(ds);
+    H5Sclose(fs);
+    PetscCall(PetscFree(full));
+    for (a = 0; a < 5; a++) {
+      if (!have[a]) continue;
+      PetscCall(DMSwarmGetField(sw, scal[a][0], NULL, NULL, (void **)&fld));
+      PetscCall(WriteSlab(grp, scal[a][1], H5T_NATIVE_DOUBLE, fld, n, 0, off, N));
+      PetscCall(DMSwarmRestoreField(sw, scal[a][0], NULL, NULL, (void **)&fld));
+    }
+  }
   PetscCall(WriteStrings(grp, "body_names", scene->nbody, body_names, PETSC_FALSE));
   PetscCall(WriteStrings(grp, "material_names", scene->nmaterial, material_names, PETSC_FALSE));
   H5Gclose(grp);
@@ -174,6 +233,12 @@ PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[]
     PetscCall(WriteStrings(file, "version", 1, &ver, PETSC_TRUE));
     PetscCall(WriteStrings(file, "units", 1, &units, PETSC_TRUE));
     for (a = 0; a < nattr; a++) PetscCall(WriteStrings(file, attr_names[a], 1, &attr_values[a], PETSC_TRUE));
+    {
+      hid_t sp = H5Screate(H5S_SCALAR), at = H5Acreate2(file, "time", H5T_NATIVE_DOUBLE, sp, H5P_DEFAULT, H5P_DEFAULT);
+      H5CHK(H5Awrite(at, H5T_NATIVE_DOUBLE, &time), "H5Awrite time");
+      H5Aclose(at);
+      H5Sclose(sp);
+    }
   }
   H5Fclose(file);
   PetscCall(PetscLogEventEnd(PS_EVENT_Write, 0, 0, 0, 0));

@@ -123,6 +123,6 @@ PETSC_EXTERN PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3
 PETSC_EXTERN PetscInt       PSStressComponents(PetscInt dim);
 
 /* output (io.c) */
-PETSC_EXTERN PetscErrorCode PSWriteMarkers(const PSScene *, DM sw, const char filename[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
+PETSC_EXTERN PetscErrorCode PSWriteMarkers(const PSScene *, DM sw, const char filename[], PetscReal time, PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
 
 #endif

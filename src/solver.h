@@ -36,23 +36,34 @@ typedef enum {
   PS_BC_FIXED
 } PSBCType;
 
+/* Constitutive models are functions registered by name (materials/registry.c). */
+typedef struct PSMaterial_ PSMaterial;
+/* p = A + B e at relative volume J = V/V0; dvol = tr(D) dt (the step's volume
+   strain, for incremental models); c2 = isentropic bulk sound speed^2 (m^2/s^2). */
+typedef PetscErrorCode (*PSEOSFn)(const PSMaterial *, PetscReal J, PetscReal p_old, PetscReal dvol, PetscReal *A, PetscReal *B, PetscReal *c2);
+/* flow stress Y (Pa) at plastic strain, plastic strain rate (1/s), temperature (K) */
+typedef PetscErrorCode (*PSStrengthFn)(const PSMaterial *, PetscReal eps_p, PetscReal eps_dot, PetscReal T, PetscReal *Y);
+/* equivalent plastic strain to failure at triaxiality sigma_m/sigma_eq, rate, temperature */
+typedef PetscErrorCode (*PSFailureFn)(const PSMaterial *, PetscReal triax, PetscReal eps_dot, PetscReal T, PetscReal *eps_f);
+
 /* Constitutive data of one material, SI units; filled from the deck. */
-typedef struct {
-  PetscReal rho0;          /* reference density (kg/m^3) */
-  PetscInt  eos;           /* 0 none (hypoelastic bulk), 1 Mie-Grueneisen */
-  PetscReal K;             /* bulk modulus for eos none (Pa) */
-  PetscReal c0, s, gamma0; /* Mie-Grueneisen linear Us-up (m/s, -, -) */
-  PetscReal G;             /* shear modulus (Pa); 0 = hydrodynamic */
-  PetscInt  strength;      /* 0 none (elastic if G > 0), 1 elastic-plastic, 2 Johnson-Cook */
-  PetscReal Y0;            /* elastic-plastic yield stress (Pa) */
-  PetscReal A, B, n, C, m; /* Johnson-Cook strength (Pa, Pa, -, -, -) */
-  PetscReal T_melt, T_room, eps_dot0; /* K, K, 1/s */
-  PetscReal cv;            /* specific heat (J/kg/K) */
-  PetscReal chi;           /* Taylor-Quinney factor */
-  PetscInt  failure;       /* 0 none, 1 Johnson-Cook */
-  PetscReal D[5];          /* Johnson-Cook failure D1..D5 */
-  PetscReal spall;         /* spall pressure (Pa, negative; 0 = none) */
-} PSMaterial;
+struct PSMaterial_ {
+  PetscReal    rho0;            /* reference density (kg/m^3) */
+  PetscReal    K;               /* bulk modulus of the hypoelastic EOS "none" (Pa) */
+  PetscReal    c0, s, gamma0;   /* Mie-Grueneisen linear Us-up (m/s, -, -) */
+  PetscReal    G;               /* shear modulus (Pa); 0 = hydrodynamic */
+  PetscReal    Y0;              /* elastic-plastic yield stress (Pa) */
+  PetscReal    A, B, n, C, m;   /* Johnson-Cook strength (Pa, Pa, -, -, -) */
+  PetscReal    T_melt, T_room;  /* K */
+  PetscReal    eps_dot0;        /* Johnson-Cook reference rate (1/s) */
+  PetscReal    cv;              /* specific heat (J/kg/K) */
+  PetscReal    chi;             /* Taylor-Quinney factor */
+  PetscReal    D[5];            /* Johnson-Cook failure D1..D5 */
+  PetscReal    spall;           /* spall pressure (Pa, negative; 0 = none) */
+  PSEOSFn      eos_fn;
+  PSStrengthFn strength_fn;     /* NULL: no strength (elastic deviator if G > 0) */
+  PSFailureFn  failure_fn;      /* NULL: no failure */
+};
 
 /* Run parameters (deck `run:` section; -run_<key> overrides). */
 typedef struct {
@@ -66,14 +77,15 @@ typedef struct {
   PetscReal   mass_threshold;  /* nodes lighter than this share of a full cell's mass get no velocity */
   PetscInt    max_steps;       /* stop after this many steps (0 = none) */
   PetscInt    history_interval;/* steps between history rows */
+  PetscInt    progress_interval;/* steps between progress lines on rank 0 (0: every ~2 s of wall time) */
   PetscReal   dt_max;          /* s; 0 = none */
 } PSRunParams;
 
-/* Conserved totals, global. */
+/* Conserved totals, global (or one rank's booked removals). */
 typedef struct {
-  PetscReal mass, p[3], kinetic, internal;
-  PetscReal lost_mass, lost_p[3], lost_energy;
-  PetscReal max_pressure;
+  PetscReal  mass, p[3], kinetic, internal;          /* kg, kg m/s, J, J (per metre of depth in 2D) */
+  PetscReal  lost_mass, lost_p[3], lost_energy;      /* booked removals through free faces */
+  PetscReal  max_pressure;                           /* Pa */
   PetscInt64 markers, lost_markers;
 } PSTotals;
 
@@ -82,17 +94,31 @@ typedef struct {
   PSRunParams    run;
   PSMaterial    *mat;            /* scene->nmaterial */
   PSBCType       bc[3][2];       /* per direction, lower and upper face */
-  DM             da;             /* grid: dof = 1 + 2 dim (m, mv, f), padded by PS_PAD nodes */
+  DM             da;             /* grid: dof = 1 + 2 dim (m, mv, f), PS_PAD nodes outside the domain */
+  DM             dav;            /* the same grid with dof = dim (re-projected velocity) */
   DM             sw;             /* markers */
+  Vec            G, Gl, H, Hl;   /* grid vectors: global and ghosted local */
   PetscInt       dim, pad;
   PetscReal      h[3];           /* cell size (m) */
   PetscReal      t, dt;          /* s */
+  PetscReal      smax;           /* global max of wave speed + |v| + viscous term (m/s) */
+  PetscReal      mass_min;       /* node mass below which a node carries no velocity (kg) */
   PetscInt       step;
-  PetscInt      *lx[3];          /* DMDA ownership ranges (nodes) */
+  PetscInt      *lx[3];          /* DMDA node ownership: rank k owns [lx[k], lx[k+1]) */
   PetscInt       nproc[3];
-  PSTotals       lost;           /* booked removals, global, cumulative */
-  PetscBool      need_plastic, need_temperature, need_damage;
+  PetscReal     *dx;             /* scratch: marker displacement of the step */
+  PSTotals       lost_local;     /* this rank's booked removals, cumulative */
 } PSSolver;
 
+PETSC_EXTERN PetscErrorCode PSSolverCreate(const PSScene *, DM da, DM sw, const PSRunParams *, const PSMaterial *, const PetscInt bc[6], PSSolver **);
+PETSC_EXTERN PetscErrorCode PSSolverDestroy(PSSolver **);
+PETSC_EXTERN PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm, PSRunParams *);
+PETSC_EXTERN PetscErrorCode PSRunParamsSetFromOptionsDM(DM, PSRunParams *);
+PETSC_EXTERN PetscErrorCode PSSolverMaxSpeed(PSSolver *);
+PETSC_EXTERN PetscErrorCode PSSolverStep(PSSolver *, PetscReal t_stop);
+PETSC_EXTERN PetscErrorCode PSSolverMigrate(PSSolver *);
+PETSC_EXTERN PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *);
+PETSC_EXTERN PetscErrorCode PSSolverRun(PSSolver *, const char outdir[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
+PETSC_EXTERN PetscErrorCode PSMaterialInit(PSMaterial *, const char eos[], const char strength[], const char failure[]);
 
 #endif

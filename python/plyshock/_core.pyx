@@ -74,7 +74,46 @@ cdef extern from "plyshock.h":
     PetscErrorCode DMSwarmGetField(PetscDM, const char *, PetscInt *, int *, void **)
     PetscErrorCode DMSwarmRestoreField(PetscDM, const char *, PetscInt *, int *, void **)
     PetscErrorCode DMSwarmGetLocalSize(PetscDM, PetscInt *)
-    PetscErrorCode PSWriteMarkers(const PSScene *, PetscDM, const char *, PetscInt, const char **, const char **, const char **, const char **)
+    PetscErrorCode PSWriteMarkers(const PSScene *, PetscDM, const char *, PetscReal, PetscInt, const char **, const char **, const char **, const char **)
+
+cdef extern from "solver.h":
+    ctypedef enum PSShapeType:
+        PS_SHAPE_LINEAR
+        PS_SHAPE_GIMP
+        PS_SHAPE_BSPLINE2
+    ctypedef struct PSRunParams:
+        PetscReal t_end
+        PetscReal cfl
+        PSShapeType shape
+        PetscReal output_interval
+        PetscReal c_linear
+        PetscReal c_quadratic
+        PetscReal pic_fraction
+        PetscReal dt_growth
+        PetscReal mass_threshold
+        PetscInt max_steps
+        PetscInt history_interval
+        PetscInt progress_interval
+        PetscReal dt_max
+    ctypedef struct PSMaterial:
+        PetscReal rho0, K, c0, s, gamma0, G, Y0, A, B, n, C, m, T_melt, T_room, eps_dot0, cv, chi, spall
+        PetscReal D[5]
+    ctypedef struct PSTotals:
+        PetscReal mass, kinetic, internal, lost_mass, lost_energy, max_pressure
+        PetscReal p[3]
+        PetscReal lost_p[3]
+        PetscInt64 markers, lost_markers
+    ctypedef struct PSSolver:
+        PetscReal t, dt
+        PetscInt step
+    PetscErrorCode PSSolverCreate(const PSScene *, PetscDM, PetscDM, const PSRunParams *, const PSMaterial *, const PetscInt *, PSSolver **)
+    PetscErrorCode PSSolverDestroy(PSSolver **)
+    PetscErrorCode PSRunParamsSetFromOptionsDM(PetscDM, PSRunParams *)
+    PetscErrorCode PSSolverMaxSpeed(PSSolver *)
+    PetscErrorCode PSSolverStep(PSSolver *, PetscReal)
+    PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *)
+    PetscErrorCode PSSolverRun(PSSolver *, const char *, PetscInt, const char **, const char **, const char **, const char **)
+    PetscErrorCode PSMaterialInit(PSMaterial *, const char *, const char *, const char *)
 
 KIND = {"laminate": PS_BODY_LAMINATE, "box": PS_BODY_BOX, "sphere": PS_BODY_SPHERE, "cylinder": PS_BODY_CYLINDER}
 
@@ -229,7 +268,7 @@ cdef class CScene:
         bn = _Strings(body_names)
         mn = _Strings(material_names)
         fn = filename.encode()
-        CHK(PSWriteMarkers(&self.s, sw.dm, fn, len(attrs), names.ptr, values.ptr, bn.ptr, mn.ptr))
+        CHK(PSWriteMarkers(&self.s, sw.dm, fn, 0.0, len(attrs), names.ptr, values.ptr, bn.ptr, mn.ptr))
 
 
 def get_int64_field(DM sw, str name):
@@ -253,3 +292,109 @@ def get_int64_field(DM sw, str name):
 
 def initialize():
     CHK(PSInitializePackage())
+
+
+SHAPES = {"linear": PS_SHAPE_LINEAR, "gimp": PS_SHAPE_GIMP, "bspline2": PS_SHAPE_BSPLINE2}
+SHAPE_NAMES = {v: k for k, v in SHAPES.items()}
+
+
+cdef class Solver:
+    """The C solver on a scene's grid and markers (keeps them alive)."""
+    cdef PSSolver *S
+    cdef PSRunParams r
+    cdef object keep
+
+    def __cinit__(self, CScene scene, DM da, DM sw, dict run, list materials, list bc):
+        cdef PSMaterial *mats
+        cdef PetscInt cbc[6]
+        cdef int i, k
+        self.S = NULL
+        self.keep = (scene, da, sw)
+        self.r.t_end = run["t_end"]
+        self.r.cfl = run["cfl"]
+        self.r.shape = SHAPES[run["shape"]]
+        self.r.output_interval = run["output_interval"]
+        self.r.c_linear = run["c_linear"]
+        self.r.c_quadratic = run["c_quadratic"]
+        self.r.pic_fraction = run["pic_fraction"]
+        self.r.dt_growth = run["dt_growth"]
+        self.r.mass_threshold = run["mass_threshold"]
+        self.r.max_steps = run["max_steps"]
+        self.r.history_interval = run["history_interval"]
+        self.r.progress_interval = run["progress_interval"]
+        self.r.dt_max = run["dt_max"]
+        CHK(PSRunParamsSetFromOptionsDM(da.dm, &self.r))
+        mats = <PSMaterial *>calloc(max(1, len(materials)), sizeof(PSMaterial))
+        try:
+            for i, md in enumerate(materials):
+                for key in ("rho0", "K", "c0", "s", "gamma0", "G", "Y0", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "cv", "chi", "spall"):
+                    setattr_material(&mats[i], key, md.get(key, 0.0))
+                for k in range(5):
+                    mats[i].D[k] = md.get("D", [0.0] * 5)[k]
+                CHK(PSMaterialInit(&mats[i], md["eos"].encode(), md["strength"].encode(), md["failure"].encode()))
+            for i in range(6):
+                cbc[i] = bc[i]
+            CHK(PSSolverCreate(&scene.s, da.dm, sw.dm, &self.r, mats, cbc, &self.S))
+        finally:
+            free(mats)
+
+    def __dealloc__(self):
+        if self.S != NULL:
+            PSSolverDestroy(&self.S)
+
+    @property
+    def run_params(self):
+        return dict(t_end=self.r.t_end, cfl=self.r.cfl, shape=SHAPE_NAMES[self.r.shape], output_interval=self.r.output_interval,
+                    c_linear=self.r.c_linear, c_quadratic=self.r.c_quadratic, pic_fraction=self.r.pic_fraction,
+                    max_steps=self.r.max_steps)
+
+    @property
+    def time(self):
+        return self.S.t
+
+    @property
+    def step_count(self):
+        return self.S.step
+
+    def step(self, t_stop=None):
+        if self.S.step == 0 and self.S.dt == 0:
+            CHK(PSSolverMaxSpeed(self.S))
+        CHK(PSSolverStep(self.S, self.r.t_end if t_stop is None else t_stop))
+
+    def totals(self):
+        cdef PSTotals T
+        CHK(PSSolverTotals(self.S, &T))
+        return dict(mass=T.mass, p=[T.p[0], T.p[1], T.p[2]], kinetic=T.kinetic, internal=T.internal,
+                    lost_mass=T.lost_mass, lost_p=[T.lost_p[0], T.lost_p[1], T.lost_p[2]], lost_energy=T.lost_energy,
+                    max_pressure=T.max_pressure, markers=T.markers, lost_markers=T.lost_markers)
+
+    def run(self, str outdir, dict attrs, list body_names, list material_names):
+        names = _Strings(list(attrs.keys()))
+        values = _Strings([str(v) for v in attrs.values()])
+        bn = _Strings(body_names)
+        mn = _Strings(material_names)
+        od = outdir.encode()
+        CHK(PSSolverRun(self.S, od, len(attrs), names.ptr, values.ptr, bn.ptr, mn.ptr))
+
+
+cdef void setattr_material(PSMaterial *M, str key, double v):
+    if key == "rho0": M.rho0 = v
+    elif key == "K": M.K = v
+    elif key == "c0": M.c0 = v
+    elif key == "s": M.s = v
+    elif key == "gamma0": M.gamma0 = v
+    elif key == "G": M.G = v
+    elif key == "Y0": M.Y0 = v
+    elif key == "A": M.A = v
+    elif key == "B": M.B = v
+    elif key == "n": M.n = v
+    elif key == "C": M.C = v
+    elif key == "m": M.m = v
+    elif key == "T_melt": M.T_melt = v
+    elif key == "T_room": M.T_room = v
+    elif key == "eps_dot0": M.eps_dot0 = v
+    elif key == "cv": M.cv = v
+    elif key == "chi": M.chi = v
+    elif key == "spall": M.spall = v
+
+

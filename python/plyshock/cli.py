@@ -2,6 +2,7 @@
 
     plyshock check SCENE.yaml                    validate; expected markers and memory
     plyshock init SCENE.yaml -o OUT.h5 [--png F] insert markers (under mpiexec or alone)
+    plyshock run SCENE.yaml -o OUTDIR            insert and run to run.t_end (-run_<key> overrides)
     plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply
 
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
@@ -34,6 +35,9 @@ def _parser():
     i.add_argument("-o", "--output", required=True, help="marker file (HDF5)")
     i.add_argument("--png", help="also render the orientation picture to this PNG")
     i.add_argument("--axis", type=int, default=1, choices=(1, 2, 3), help="material axis drawn as glyphs (default 1, the fibre)")
+    r = sub.add_parser("run", help="insert a scene and run it to run.t_end (explicit MPM); -run_<key> overrides the deck's run section")
+    r.add_argument("deck")
+    r.add_argument("-o", "--output", required=True, help="output directory")
     pl = sub.add_parser("plot", help="render markers with orientation glyphs coloured by ply, off screen")
     pl.add_argument("markers", help="a marker file written by plyshock init")
     pl.add_argument("--png", required=True)
@@ -75,6 +79,8 @@ def main(argv=None):
         petsc4py.init([sys.argv[0]] + petsc)
         if args.cmd == "check":
             return _check(scene)
+        if args.cmd == "run":
+            return _run(scene, text, args.output)
         return _init(scene, text, args.output, args.png, args.axis)
     except DeckError as e:
         if _rank() == 0:
@@ -123,6 +129,17 @@ def run_scene(scene, output, png=None, petsc_args=(), axis=1, zoom=None):
         if _rank() == 0:
             print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
         return 2
+
+
+def _run(scene, text, outdir):
+    from petsc4py import PETSc
+    from . import core
+    m = core.initialize(scene)
+    S = core.make_solver(m)      # material and run errors before any step
+    _print0(f"running {m.stats['markers']} markers on {PETSc.COMM_WORLD.getSize()} rank(s), {m.bytes_per_marker} bytes per marker; "
+            f"{S.run_params}")
+    core.run(m, outdir, text, S)
+    return 0
 
 
 def _init(scene, text, output, png=None, axis=1, zoom=None):

@@ -227,3 +227,127 @@ def write_xmf(filename, n, dim, anisotropic):
 """
     with open(os.path.splitext(filename)[0] + ".xmf", "w") as f:
         f.write(text)
+
+
+# ------------------------------------------------------------------ solver --
+BC_CODE = {"free": 0, "symmetry": 1, "fixed": 2}
+
+
+def material_to_c(m, path):
+    """A material's constitutive data for the C solver (SI units); models by name."""
+    d = {"rho0": m.density, "eos": "none", "strength": "none", "failure": "none", "chi": 0.9,
+         "T_room": 294.0, "eps_dot0": 1.0, "T_melt": 1e30}
+    el = m.elastic or {}
+    if el.get("type") == "orthotropic":
+        raise DeckError(f"{path}.elastic", "orthotropic elasticity is not in the time-stepping solver yet (ply mechanics "
+                        "come with the next issue); `plyshock init` inserts such plies")
+    if m.eos is not None:
+        d.update(eos="mie-gruneisen", c0=m.eos["c0"], s=m.eos["s"], gamma0=m.eos["gamma0"],
+                 spall=float(m.eos.get("spall_pressure", 0.0)))
+        if d["spall"] > 0:
+            raise DeckError(f"{path}.eos.spall_pressure", f"{d['spall']} must be a negative pressure (Pa, tension)")
+        d["G"] = m.shear_modulus or 0.0
+    elif el.get("type") == "isotropic":
+        E, nu = el["E"], el["nu"]
+        d.update(K=E / (3 * (1 - 2 * nu)), G=E / (2 * (1 + nu)))
+    else:
+        raise DeckError(path, "needs an eos (with shear_modulus for strength) or elastic: {type: isotropic, E, nu} to run")
+    if m.strength is not None and m.strength["type"] != "none":
+        st = m.strength
+        if d["G"] <= 0:
+            raise DeckError(f"{path}.shear_modulus", f"is required with strength type {st['type']} (Pa, > 0)")
+        d["strength"] = st["type"]
+        d["chi"] = float(st.get("taylor_quinney", 0.9))
+        if st["type"] == "elastic-plastic":
+            d["Y0"] = st["yield_stress"]
+        else:
+            d.update(A=st["A"], B=st["B"], n=st["n"], C=st["C"], m=st["m"], T_melt=st["T_melt"],
+                     T_room=float(st.get("T_room", 294.0)), eps_dot0=float(st.get("eps_dot0", 1.0)))
+            if m.specific_heat is None:
+                raise DeckError(f"{path}.specific_heat", "is required with Johnson-Cook strength (J/kg/K; temperature from plastic work)")
+    d["cv"] = m.specific_heat or 0.0
+    if m.failure is not None:
+        if d["strength"] == "none":
+            raise DeckError(f"{path}.failure", "Johnson-Cook failure needs a strength model (it accumulates plastic strain)")
+        d["failure"] = "johnson-cook"
+        d["D"] = [m.failure[k] for k in ("D1", "D2", "D3", "D4", "D5")]
+    return d
+
+
+def run_to_c(run):
+    av = run.artificial_viscosity
+    return dict(t_end=run.t_end, cfl=run.cfl, shape=run.shape, output_interval=run.output_interval,
+                c_linear=av["c_linear"], c_quadratic=av["c_quadratic"], pic_fraction=run.pic_fraction,
+                dt_growth=run.dt_growth, mass_threshold=run.mass_threshold, max_steps=run.max_steps,
+                history_interval=run.history_interval, progress_interval=run.progress_interval, dt_max=run.dt_max)
+
+
+def make_solver(m):
+    """The C solver on initialised markers m (from initialize); reads -run_<key> options."""
+    from . import _core
+    scene = m.scene
+    if scene.run is None:
+        raise DeckError("run", "a run needs a run: section with at least t_end (s)")
+    mats = [material_to_c(x, f"materials[{i}]") for i, x in enumerate(scene.materials)]
+    faces = ["x-", "x+", "y-", "y+", "z-", "z+"][: 2 * scene.dimension]
+    bc = [BC_CODE[scene.grid.boundary[f]] for f in faces] + [0] * (6 - len(faces))
+    return _core.Solver(m.cs, m.da, m.sw, run_to_c(scene.run), mats, bc)
+
+
+def run(m, outdir, deck_text, solver=None):
+    """Run to run.t_end writing OUTDIR/markers_*.h5, grid_*.h5, history.csv, bodies.csv, markers.xdmf."""
+    from petsc4py import PETSc
+    from . import __version__
+    comm = m.sw.getComm()
+    if comm.getRank() == 0:
+        os.makedirs(outdir, exist_ok=True)
+    comm.barrier()
+    S = solver or make_solver(m)
+    opts = " ".join(f"-{k} {v}".strip() for k, v in PETSc.Options().getAll().items())
+    attrs = {"deck": deck_text, "code_version": __version__, "petsc_options": opts, "ranks": str(comm.getSize()),
+             "command": " ".join(sys.argv), "dimension": str(m.scene.dimension), "run": repr(S.run_params)}
+    attrs = comm.tompi4py().bcast(attrs, root=0)
+    S.run(outdir, attrs, [b.name for b in m.scene.bodies], [x.name for x in m.scene.materials])
+    if comm.getRank() == 0:
+        write_xdmf_series(outdir, m.scene.dimension, m.scene)
+    comm.barrier()
+    return S
+
+
+def write_xdmf_series(outdir, dim, scene):
+    """markers.xdmf: the time series of marker files, for ParaView."""
+    import glob
+    import h5py
+    steps = []
+    for fn in sorted(glob.glob(os.path.join(outdir, "markers_*.h5"))):
+        with h5py.File(fn, "r") as f:
+            steps.append((os.path.basename(fn), float(f.attrs["time"]), len(f["markers/id"]),
+                          [k for k in f["markers"].keys()]))
+    grids = []
+    for name, t, n, keys in steps:
+        def item(path, dims, kind="Float", prec=8):
+            return f'<DataItem Dimensions="{dims}" NumberType="{kind}" Precision="{prec}" Format="HDF">{name}:{path}</DataItem>'
+        attrs = []
+        for k in keys:
+            if k in ("x",):
+                continue
+            if k in ("mass", "volume", "pressure", "energy", "plastic_strain", "temperature", "damage"):
+                attrs.append(f'<Attribute Name="{k}" AttributeType="Scalar" Center="Node">{item("/markers/" + k, n)}</Attribute>')
+            elif k in ("id",):
+                attrs.append(f'<Attribute Name="{k}" AttributeType="Scalar" Center="Node">{item("/markers/" + k, n, "Int", 8)}</Attribute>')
+            elif k in ("body", "ply", "material"):
+                attrs.append(f'<Attribute Name="{k}" AttributeType="Scalar" Center="Node">{item("/markers/" + k, n, "Int", 4)}</Attribute>')
+            elif k in ("axis1", "axis2", "axis3"):
+                attrs.append(f'<Attribute Name="{k}" AttributeType="Vector" Center="Node">{item("/markers/" + k, f"{n} 3")}</Attribute>')
+            elif k == "stress":
+                attrs.append(f'<Attribute Name="stress" AttributeType="Tensor" Center="Node">{item("/markers/stress", f"{n} 3 3")}</Attribute>')
+        grids.append(f'''   <Grid Name="markers" GridType="Uniform">
+    <Time Value="{t!r}"/>
+    <Topology TopologyType="Polyvertex" NumberOfElements="{n}" NodesPerElement="1"/>
+    <Geometry GeometryType="{'XY' if dim == 2 else 'XYZ'}">{item('/markers/x', f'{n} {dim}')}</Geometry>
+    {chr(10).join('    ' + a for a in attrs)}
+   </Grid>''')
+    text = ('<?xml version="1.0" ?>\n<Xdmf Version="2.0">\n <Domain>\n  <Grid Name="series" GridType="Collection" CollectionType="Temporal">\n'
+            + "\n".join(grids) + "\n  </Grid>\n </Domain>\n</Xdmf>\n")
+    with open(os.path.join(outdir, "markers.xdmf"), "w") as f:
+        f.write(text)

@@ -53,9 +53,9 @@ class Grid:
 ELASTIC_KEYS = {"isotropic": ("type", "E", "nu"),
                 "orthotropic": ("type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23")}
 MODEL_KEYS = {
-    "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0")},
-    "strength": {"none": ("type",), "elastic-plastic": ("type", "yield_stress"),
-                 "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0")},
+    "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0", "spall_pressure")},
+    "strength": {"none": ("type",), "elastic-plastic": ("type", "yield_stress", "taylor_quinney"),
+                 "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney")},
     "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5")},
 }
 
@@ -225,6 +225,49 @@ class Cylinder:
 
 
 SHAPES = {"laminate": Laminate, "box": Box, "sphere": Sphere, "cylinder": Cylinder}
+SHAPE_FUNCTIONS = ("linear", "gimp", "bspline2")
+
+
+@dataclass
+class Run:
+    """The deck's `run:` section (SI units); each key can be overridden by -run_<key>."""
+    t_end: float                          # s
+    cfl: float = 0.4
+    shape: str = "gimp"                   # linear | gimp | bspline2
+    output_interval: float = 0.0          # s; 0 = initial and final states only
+    artificial_viscosity: dict = field(default_factory=lambda: {"c_linear": 0.2, "c_quadratic": 2.0})
+    pic_fraction: float = 0.0             # PIC share of the velocity update (0 = FLIP)
+    dt_growth: float = 1.1
+    dt_max: float = 0.0                   # s; 0 = none
+    mass_threshold: float = 1e-6          # of a full cell of the lightest material
+    max_steps: int = 0
+    history_interval: int = 10
+    progress_interval: int = 0
+
+    KEYS = ("t_end", "cfl", "shape", "output_interval", "artificial_viscosity", "pic_fraction", "dt_growth",
+            "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval")
+
+    def validate(self, path="run"):
+        self.t_end = number(self.t_end, f"{path}.t_end", 0, None, lo_open=True)
+        self.cfl = number(self.cfl, f"{path}.cfl", 0, 1, lo_open=True)
+        if self.shape not in SHAPE_FUNCTIONS:
+            raise DeckError(f"{path}.shape", f"must be one of {'|'.join(SHAPE_FUNCTIONS)}, got {self.shape!r}")
+        self.output_interval = number(self.output_interval, f"{path}.output_interval", 0, None)
+        av = dict(self.artificial_viscosity or {})
+        check_keys(av, ("c_linear", "c_quadratic"), f"{path}.artificial_viscosity")
+        av.setdefault("c_linear", 0.2)
+        av.setdefault("c_quadratic", 2.0)
+        for k in av:
+            av[k] = number(av[k], f"{path}.artificial_viscosity.{k}", 0, 100)
+        self.artificial_viscosity = av
+        self.pic_fraction = number(self.pic_fraction, f"{path}.pic_fraction", 0, 1)
+        self.dt_growth = number(self.dt_growth, f"{path}.dt_growth", 1, 10)
+        self.dt_max = number(self.dt_max, f"{path}.dt_max", 0, None)
+        self.mass_threshold = number(self.mass_threshold, f"{path}.mass_threshold", 0, 0.5)
+        self.max_steps = number(self.max_steps, f"{path}.max_steps", 0, 10**12, integer=True)
+        self.history_interval = number(self.history_interval, f"{path}.history_interval", 1, 10**9, integer=True)
+        self.progress_interval = number(self.progress_interval, f"{path}.progress_interval", 0, 10**9, integer=True)
+        return self
 
 
 @dataclass
@@ -256,8 +299,9 @@ class Scene:
     grid: Grid
     materials: List[Material]
     bodies: List[Body]
+    run: Optional[Run] = None
 
-    KEYS = ("dimension", "grid", "materials", "bodies")
+    KEYS = ("dimension", "grid", "materials", "bodies", "run")
 
     # ------------------------------------------------------------ checks --
     def validate(self):
@@ -282,6 +326,8 @@ class Scene:
             if b.name in bnames:
                 raise DeckError(f"bodies[{i}].name", f"{b.name!r} is already bodies[{bnames[b.name]}]")
             bnames[b.name] = i
+        if self.run is not None:
+            self.run.validate()
         return self
 
     def _material_id(self, name, path, names):
@@ -378,7 +424,7 @@ class Scene:
     @staticmethod
     def from_dict(d):
         """A scene from a parsed deck (unknown keys are errors)."""
-        check_keys(d, Scene.KEYS + ("run", "gauges"), "")
+        check_keys(d, Scene.KEYS + ("gauges",), "")
         for k in ("dimension", "grid", "materials", "bodies"):
             if k not in d:
                 raise DeckError(k, "is required")
@@ -418,7 +464,13 @@ class Scene:
                             raise DeckError(f"{sp}.{key}", "is required")
                     kw[k] = cls(**kw[k])
             bodies.append(Body(**kw))
-        return Scene(d["dimension"], grid, mats, bodies)
+        run = None
+        if d.get("run") is not None:
+            check_keys(d["run"], Run.KEYS, "run")
+            if "t_end" not in d["run"]:
+                raise DeckError("run.t_end", "is required (s, > 0)")
+            run = Run(**d["run"])
+        return Scene(d["dimension"], grid, mats, bodies, run)
 
 
 def _laminate_from_dict(d, path):

@@ -1,0 +1,205 @@
+/*
+  One marker's constitutive update over a step of length dt, given its
+  velocity gradient L (1/s).
+
+  1. F <- (I + dt L) F, J = det F, V = J V0, rho = rho0 / J.
+  2. Rotation R of the polar decomposition F = R U (Higham's Newton iteration).
+  3. Deviator, Green-Naghdi rate: the unrotated deviator s~ = R^T s R takes
+     s~ += 2 G dt R^T D' R; J2 radial return against the flow stress Y (plastic
+     strain, temperature by chi * plastic work / c_v, damage by the failure strain).
+  4. Artificial viscosity q = rho h (c_q h tr(D)^2 + c_l c |tr D|) in compression
+     only (von Neumann-Richtmyer quadratic + linear, Wilkins 1980).
+  5. Energy with trapezoidal pressure work, solved exactly for p = A + B e:
+       e1 = e0 + dt/rho s~:D~' - dt trD/rho ((p0 + p1)/2 + q)
+  6. sigma = R s~ R^T - p I (q is kept apart, added only in the force).
+  Plane strain (2D): F_zz = 1, L_zz = 0; sigma_zz from the deviator.
+*/
+#include <math.h>
+#include "../materials.h"
+
+/* symmetric 3x3 <-> stored components (3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy) */
+static void Unpack(PetscInt dim, const PetscReal *v, PetscReal S[3][3])
+{
+  S[0][0] = v[0];
+  S[1][1] = v[1];
+  S[2][2] = v[2];
+  if (dim == 3) {
+    S[1][2] = S[2][1] = v[3];
+    S[0][2] = S[2][0] = v[4];
+    S[0][1] = S[1][0] = v[5];
+  } else {
+    S[0][1] = S[1][0] = v[3];
+    S[0][2] = S[2][0] = S[1][2] = S[2][1] = 0.0;
+  }
+}
+
+static void Pack(PetscInt dim, const PetscReal S[3][3], PetscReal *v)
+{
+  v[0] = S[0][0];
+  v[1] = S[1][1];
+  v[2] = S[2][2];
+  if (dim == 3) {
+    v[3] = 0.5 * (S[1][2] + S[2][1]);
+    v[4] = 0.5 * (S[0][2] + S[2][0]);
+    v[5] = 0.5 * (S[0][1] + S[1][0]);
+  } else v[3] = 0.5 * (S[0][1] + S[1][0]);
+}
+
+static PetscReal Det3(const PetscReal A[3][3])
+{
+  return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+}
+
+/* R of F = R U: X <- (X + X^-T)/2 until it stops changing (Higham 1986) */
+static void PolarRotation(const PetscReal F[3][3], PetscReal R[3][3])
+{
+  PetscReal X[3][3], C[3][3];
+  PetscInt  it, i, j;
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) X[i][j] = F[i][j];
+  for (it = 0; it < 40; it++) {
+    const PetscReal d = Det3(X);
+    PetscReal       diff = 0.0;
+    /* X^-T = cofactor(X) / det X */
+    C[0][0] = (X[1][1] * X[2][2] - X[1][2] * X[2][1]) / d;
+    C[0][1] = -(X[1][0] * X[2][2] - X[1][2] * X[2][0]) / d;
+    C[0][2] = (X[1][0] * X[2][1] - X[1][1] * X[2][0]) / d;
+    C[1][0] = -(X[0][1] * X[2][2] - X[0][2] * X[2][1]) / d;
+    C[1][1] = (X[0][0] * X[2][2] - X[0][2] * X[2][0]) / d;
+    C[1][2] = -(X[0][0] * X[2][1] - X[0][1] * X[2][0]) / d;
+    C[2][0] = (X[0][1] * X[1][2] - X[0][2] * X[1][1]) / d;
+    C[2][1] = -(X[0][0] * X[1][2] - X[0][2] * X[1][0]) / d;
+    C[2][2] = (X[0][0] * X[1][1] - X[0][1] * X[1][0]) / d;
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) {
+        const PetscReal y = 0.5 * (X[i][j] + C[i][j]);
+        diff += PetscAbsReal(y - X[i][j]);
+        X[i][j] = y;
+      }
+    if (diff < 1e-14) break;
+  }
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) R[i][j] = X[i][j];
+}
+
+PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e, PetscReal p, PetscReal *c)
+{
+  PetscReal A, B, c2;
+
+  PetscFunctionBeginUser;
+  (void)e;
+  PetscCall(M->eos_fn(M, J, p, 0.0, &A, &B, &c2));
+  *c = PetscSqrtReal(c2 + 4.0 * M->G * J / (3.0 * M->rho0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
+{
+  PetscReal F[3][3] = {{0}}, Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3], T3[3][3];
+  PetscReal J, rho, trD, A, B, c2, c, q = 0.0, wdev = 0.0, p0 = *s->p, p1, e1;
+  PetscBool failed = (s->D && *s->D >= 1.0) ? PETSC_TRUE : PETSC_FALSE;
+  PetscInt  i, j, k;
+
+  PetscFunctionBeginUser;
+  /* 1. deformation gradient */
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? s->F[i * dim + j] : (i == j ? 1.0 : 0.0);
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) {
+      Fn[i][j] = F[i][j];
+      for (k = 0; k < 3; k++) Fn[i][j] += dt * L[i][k] * F[k][j];
+    }
+  J     = Det3(Fn);
+  *Jout = J;
+  if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS); /* the caller names the marker */
+  for (i = 0; i < dim; i++)
+    for (j = 0; j < dim; j++) s->F[i * dim + j] = Fn[i][j];
+  *s->vol = J * s->V0;
+  rho     = M->rho0 / J;
+  /* rate of deformation */
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) D[i][j] = 0.5 * (L[i][j] + L[j][i]);
+  trD = D[0][0] + D[1][1] + D[2][2];
+  for (i = 0; i < 3; i++) D[i][i] -= trD / 3.0; /* D' */
+
+  /* 2-3. unrotated deviator with J2 return */
+  PolarRotation(Fn, R);
+  Unpack(dim, s->sdev, S);
+  if (M->G > 0.0 && !failed) {
+    PetscReal seq2 = 0.0, Dd = 0.0;
+    /* D~' = R^T D' R */
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) {
+        T3[i][j] = 0.0;
+        for (k = 0; k < 3; k++) T3[i][j] += D[i][k] * R[k][j];
+      }
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) {
+        Dt[i][j] = 0.0;
+        for (k = 0; k < 3; k++) Dt[i][j] += R[k][i] * T3[k][j];
+      }
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) {
+        S[i][j] += 2.0 * M->G * dt * Dt[i][j];
+        seq2 += S[i][j] * S[i][j];
+        Dd += Dt[i][j] * Dt[i][j];
+      }
+    if (M->strength_fn) {
+      const PetscReal seq = PetscSqrtReal(1.5 * seq2), eps_dot = PetscSqrtReal(2.0 / 3.0 * Dd);
+      PetscReal       Y;
+      PetscCall(M->strength_fn(M, s->eps_p ? *s->eps_p : 0.0, eps_dot, s->T ? *s->T : M->T_room, &Y));
+      if (seq > Y) {
+        const PetscReal dep = (seq - Y) / (3.0 * M->G);
+        for (i = 0; i < 3; i++)
+          for (j = 0; j < 3; j++) S[i][j] *= Y / seq;
+        if (s->eps_p) *s->eps_p += dep;
+        if (s->T && M->cv > 0.0) *s->T += M->chi * Y * dep / (rho * M->cv);
+        if (s->D && M->failure_fn) {
+          PetscReal ef;
+          PetscCall(M->failure_fn(M, -p0 / PetscMax(Y, 1.0), dep / dt, s->T ? *s->T : M->T_room, &ef));
+          *s->D += dep / ef;
+          if (*s->D >= 1.0) failed = PETSC_TRUE;
+        }
+      }
+    }
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) wdev += S[i][j] * Dt[i][j];
+  }
+  if (failed) {
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) S[i][j] = 0.0;
+    wdev = 0.0;
+  }
+  Pack(dim, S, s->sdev);
+
+  /* 4-5. pressure, viscosity, energy */
+  PetscCall(M->eos_fn(M, J, p0, trD * dt, &A, &B, &c2));
+  c = PetscSqrtReal(c2);
+  if (trD < 0.0) q = rho * h * (c_quadratic * h * trD * trD + c_linear * c * PetscAbsReal(trD));
+  {
+    const PetscReal a = dt * trD / rho;
+    e1 = (*s->e + dt * wdev / rho - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
+  }
+  p1 = A + B * e1;
+  if (M->spall < 0.0 && p1 < M->spall) p1 = 0.0; /* spalled: no tension */
+  if (failed && p1 < 0.0) p1 = 0.0;
+  *s->e = e1;
+  *s->p = p1;
+  *s->q = q;
+
+  /* 6. Cauchy stress sigma = R s~ R^T - p I */
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) {
+      T3[i][j] = 0.0;
+      for (k = 0; k < 3; k++) T3[i][j] += S[i][k] * R[j][k];
+    }
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) {
+      Dt[i][j] = 0.0;
+      for (k = 0; k < 3; k++) Dt[i][j] += R[i][k] * T3[k][j];
+    }
+  for (i = 0; i < 3; i++) Dt[i][i] -= p1;
+  Pack(dim, Dt, s->sig);
+  *cout = PetscSqrtReal(c2 + 4.0 * M->G / (3.0 * rho));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

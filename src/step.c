@@ -1,0 +1,583 @@
+/*
+  step.c - the explicit MPM time step (MUSL, see solver.h) on DMDA + DMSwarm.
+
+  Kernels (each a log event): PSP2G, PSGridUpdate, PSG2P, PSReproject,
+  PSStress, PSMigrate.  Each kernel: get fields, reset outputs, loop over
+  markers, then communicate; the communication is kept apart from the math.
+*/
+#include <math.h>
+#include "materials.h"
+#include "shape.h"
+
+const char *const PSShapeTypes[] = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
+
+static PetscLogEvent EV_P2G, EV_Grid, EV_G2P, EV_Reproject, EV_Stress, EV_Migrate, EV_Dt;
+
+typedef struct {
+  PetscInt gs[3], gm[3]; /* ghosted corners of the local arrays */
+  PetscInt os[3], om[3]; /* owned corners */
+} PSIndex;
+
+static PetscErrorCode GetIndex(DM da, PSIndex *ix)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetGhostCorners(da, &ix->gs[0], &ix->gs[1], &ix->gs[2], &ix->gm[0], &ix->gm[1], &ix->gm[2]));
+  PetscCall(DMDAGetCorners(da, &ix->os[0], &ix->os[1], &ix->os[2], &ix->om[0], &ix->om[1], &ix->om[2]));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static inline PetscInt Lidx(const PSIndex *ix, PetscInt i, PetscInt j, PetscInt k)
+{
+  return ((k - ix->gs[2]) * ix->gm[1] + (j - ix->gs[1])) * ix->gm[0] + (i - ix->gs[0]);
+}
+
+/* ------------------------------------------------------------ set up -- */
+
+PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunParams *run, const PSMaterial *mats, const PetscInt bc[6], PSSolver **out)
+{
+  PSSolver      *S;
+  PetscInt       d;
+  const PetscInt *l[3];
+  static PetscBool registered = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (!registered) {
+    PetscClassId cid;
+    PetscCall(PetscClassIdRegister("plyshock solver", &cid));
+    PetscCall(PetscLogEventRegister("PSP2G", cid, &EV_P2G));
+    PetscCall(PetscLogEventRegister("PSGridUpdate", cid, &EV_Grid));
+    PetscCall(PetscLogEventRegister("PSG2P", cid, &EV_G2P));
+    PetscCall(PetscLogEventRegister("PSReproject", cid, &EV_Reproject));
+    PetscCall(PetscLogEventRegister("PSStress", cid, &EV_Stress));
+    PetscCall(PetscLogEventRegister("PSMigrate", cid, &EV_Migrate));
+    PetscCall(PetscLogEventRegister("PSTimeStep", cid, &EV_Dt));
+    registered = PETSC_TRUE;
+  }
+  PetscCall(PetscNew(&S));
+  S->scene = scene;
+  S->run   = *run;
+  S->da    = da;
+  S->sw    = sw;
+  S->dim   = scene->dim;
+  S->pad   = PS_PAD;
+  PetscCall(PetscMalloc1(scene->nmaterial, &S->mat));
+  PetscCall(PetscArraycpy(S->mat, mats, scene->nmaterial));
+  for (d = 0; d < 3; d++) {
+    S->bc[d][0] = d < S->dim ? (PSBCType)bc[2 * d] : PS_BC_FREE;
+    S->bc[d][1] = d < S->dim ? (PSBCType)bc[2 * d + 1] : PS_BC_FREE;
+    S->h[d]     = d < S->dim ? (scene->upper[d] - scene->lower[d]) / scene->cells[d] : 1.0;
+  }
+  PetscCall(DMDAGetInfo(da, NULL, NULL, NULL, NULL, &S->nproc[0], &S->nproc[1], &S->nproc[2], NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(da, &l[0], &l[1], &l[2]));
+  for (d = 0; d < 3; d++) {
+    PetscInt r;
+    PetscCall(PetscMalloc1(S->nproc[d] + 1, &S->lx[d]));
+    S->lx[d][0] = 0;
+    for (r = 0; r < S->nproc[d]; r++) S->lx[d][r + 1] = S->lx[d][r] + (d < S->dim ? l[d][r] : 1);
+  }
+  PetscCall(DMDACreateCompatibleDMDA(da, S->dim, &S->dav));
+  PetscCall(DMCreateGlobalVector(da, &S->G));
+  PetscCall(DMCreateLocalVector(da, &S->Gl));
+  PetscCall(DMCreateGlobalVector(S->dav, &S->H));
+  PetscCall(DMCreateLocalVector(S->dav, &S->Hl));
+  {
+    PetscReal rmin = PETSC_MAX_REAL, vc = 1.0;
+    for (d = 0; d < scene->nmaterial; d++) rmin = PetscMin(rmin, mats[d].rho0);
+    for (d = 0; d < S->dim; d++) vc *= S->h[d];
+    S->mass_min = S->run.mass_threshold * rmin * vc;
+  }
+  *out = S;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSSolverDestroy(PSSolver **S)
+{
+  PetscInt d;
+
+  PetscFunctionBeginUser;
+  if (!*S) PetscFunctionReturn(PETSC_SUCCESS);
+  for (d = 0; d < 3; d++) PetscCall(PetscFree((*S)->lx[d]));
+  PetscCall(VecDestroy(&(*S)->G));
+  PetscCall(VecDestroy(&(*S)->Gl));
+  PetscCall(VecDestroy(&(*S)->H));
+  PetscCall(VecDestroy(&(*S)->Hl));
+  PetscCall(DMDestroy(&(*S)->dav));
+  PetscCall(PetscFree((*S)->mat));
+  PetscCall(PetscFree((*S)->dx));
+  PetscCall(PetscFree(*S));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Run options: the deck's values are the defaults, -run_<key> overrides. */
+PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
+{
+  PetscInt shape = r->shape;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, "run_", "plyshock run options (SI units)", "plyshock");
+  PetscCall(PetscOptionsReal("-t_end", "end time (s)", "plyshock", r->t_end, &r->t_end, NULL));
+  PetscCall(PetscOptionsReal("-cfl", "Courant number", "plyshock", r->cfl, &r->cfl, NULL));
+  PetscCall(PetscOptionsEList("-shape", "shape functions", "plyshock", PSShapeTypes, 3, PSShapeTypes[shape], &shape, NULL));
+  PetscCall(PetscOptionsReal("-output_interval", "time between outputs (s); 0: end only", "plyshock", r->output_interval, &r->output_interval, NULL));
+  PetscCall(PetscOptionsReal("-c_linear", "linear artificial viscosity coefficient", "plyshock", r->c_linear, &r->c_linear, NULL));
+  PetscCall(PetscOptionsReal("-c_quadratic", "quadratic artificial viscosity coefficient", "plyshock", r->c_quadratic, &r->c_quadratic, NULL));
+  PetscCall(PetscOptionsReal("-pic_fraction", "PIC share of the velocity update", "plyshock", r->pic_fraction, &r->pic_fraction, NULL));
+  PetscCall(PetscOptionsReal("-dt_growth", "largest dt_{n+1}/dt_n", "plyshock", r->dt_growth, &r->dt_growth, NULL));
+  PetscCall(PetscOptionsReal("-dt_max", "largest time step (s); 0: none", "plyshock", r->dt_max, &r->dt_max, NULL));
+  PetscCall(PetscOptionsReal("-mass_threshold", "nodes lighter than this share of a full cell carry no velocity", "plyshock", r->mass_threshold, &r->mass_threshold, NULL));
+  PetscCall(PetscOptionsInt("-max_steps", "stop after this many steps (0: none)", "plyshock", r->max_steps, &r->max_steps, NULL));
+  PetscCall(PetscOptionsInt("-history_interval", "steps between history rows", "plyshock", r->history_interval, &r->history_interval, NULL));
+  PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
+  PetscOptionsEnd();
+  r->shape = (PSShapeType)shape;
+  PetscCheck(r->t_end > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.t_end %g must be > 0 s", (double)r->t_end);
+  PetscCheck(r->cfl > 0 && r->cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.cfl %g must be in (0, 1]", (double)r->cfl);
+  PetscCheck(r->pic_fraction >= 0 && r->pic_fraction <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.pic_fraction %g must be in [0, 1]", (double)r->pic_fraction);
+  PetscCheck(r->c_linear >= 0 && r->c_quadratic >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "artificial viscosity coefficients (%g, %g) must be >= 0", (double)r->c_linear, (double)r->c_quadratic);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSRunParamsSetFromOptionsDM(DM dm, PSRunParams *r)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PSRunParamsSetFromOptions(PetscObjectComm((PetscObject)dm), r));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* ------------------------------------------------------------ helpers -- */
+
+typedef struct {
+  PetscReal *x, *v, *mass, *vol, *V0, *F, *sig, *sdev, *p, *q, *e, *eps_p, *T, *D;
+  PetscInt  *mat;
+  PetscInt64 *id;
+  PetscInt   n;
+} PSFields;
+
+static PetscErrorCode FieldsGet(PSSolver *S, PSFields *f)
+{
+  DM sw = S->sw;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(f, sizeof(*f)));
+  PetscCall(DMSwarmGetLocalSize(sw, &f->n));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_X, NULL, NULL, (void **)&f->x));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_VELOCITY, NULL, NULL, (void **)&f->v));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_MASS, NULL, NULL, (void **)&f->mass));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&f->vol));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_V0, NULL, NULL, (void **)&f->V0));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_F, NULL, NULL, (void **)&f->F));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&f->sig));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_SDEV, NULL, NULL, (void **)&f->sdev));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&f->p));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_Q, NULL, NULL, (void **)&f->q));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&f->e));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&f->mat));
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_ID, NULL, NULL, (void **)&f->id));
+  if (S->scene->need_plastic) PetscCall(DMSwarmGetField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&f->eps_p));
+  if (S->scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
+  if (S->scene->need_damage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode FieldsRestore(PSSolver *S, PSFields *f)
+{
+  DM sw = S->sw;
+
+  PetscFunctionBeginUser;
+  if (f->D) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
+  if (f->T) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
+  if (f->eps_p) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&f->eps_p));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_ID, NULL, NULL, (void **)&f->id));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&f->mat));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&f->e));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_Q, NULL, NULL, (void **)&f->q));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&f->p));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_SDEV, NULL, NULL, (void **)&f->sdev));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&f->sig));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_F, NULL, NULL, (void **)&f->F));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_V0, NULL, NULL, (void **)&f->V0));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&f->vol));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_MASS, NULL, NULL, (void **)&f->mass));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_VELOCITY, NULL, NULL, (void **)&f->v));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_X, NULL, NULL, (void **)&f->x));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* GIMP half size of a marker: half its initial size */
+static inline PetscReal HalfSize(PetscInt dim, PetscReal V0)
+{
+  return 0.5 * (dim == 3 ? cbrt(V0) : sqrt(V0));
+}
+
+/* Cauchy stress minus q (the force's stress) as a 3x3 */
+static inline void ForceStress(PetscInt dim, const PetscReal *sg, PetscReal q, PetscReal s[3][3])
+{
+  s[0][0] = sg[0] - q;
+  s[1][1] = sg[1] - q;
+  s[2][2] = sg[2] - q;
+  if (dim == 3) {
+    s[1][2] = s[2][1] = sg[3];
+    s[0][2] = s[2][0] = sg[4];
+    s[0][1] = s[1][0] = sg[5];
+  } else {
+    s[0][1] = s[1][0] = sg[3];
+    s[0][2] = s[2][0] = s[1][2] = s[2][1] = 0.0;
+  }
+}
+
+/* boundary conditions on a node's velocity: physical node index ip[d] */
+static inline void NodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
+{
+  PetscInt d, e;
+  for (d = 0; d < S->dim; d++) {
+    PSBCType bc = ip[d] <= 0 ? S->bc[d][0] : ip[d] >= S->scene->cells[d] ? S->bc[d][1] : PS_BC_FREE;
+    if (bc == PS_BC_SYMMETRY) v[d] = 0.0;
+    else if (bc == PS_BC_FIXED)
+      for (e = 0; e < S->dim; e++) v[e] = 0.0;
+  }
+}
+
+/* ---------------------------------------------------------- the step -- */
+
+/* wave speed + |v| over all markers (for the first dt and after restarts) */
+PetscErrorCode PSSolverMaxSpeed(PSSolver *S)
+{
+  PSFields  f;
+  PetscInt  p, d, dim = S->dim;
+  PetscReal smax = 0.0;
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldsGet(S, &f));
+  for (p = 0; p < f.n; p++) {
+    PetscReal c, v2 = 0.0, J = f.vol[p] / f.V0[p];
+    PetscCall(PSMarkerSoundSpeed(&S->mat[f.mat[p]], J, f.e[p], f.p[p], &c));
+    for (d = 0; d < dim; d++) v2 += f.v[p * dim + d] * f.v[p * dim + d];
+    smax = PetscMax(smax, c + PetscSqrtReal(v2));
+  }
+  PetscCall(FieldsRestore(S, &f));
+  PetscCallMPI(MPI_Allreduce(&smax, &S->smax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)S->sw)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* dt = cfl h_min / max(c + |v|), capped in growth, by dt_max and the next stop */
+static PetscErrorCode ComputeDt(PSSolver *S, PetscReal t_stop)
+{
+  PetscReal hmin = PETSC_MAX_REAL, dt;
+  PetscInt  d;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_Dt, 0, 0, 0, 0));
+  for (d = 0; d < S->dim; d++) hmin = PetscMin(hmin, S->h[d]);
+  dt = S->run.cfl * hmin / PetscMax(S->smax, 1e-300);
+  if (S->dt > 0) dt = PetscMin(dt, S->run.dt_growth * S->dt);
+  if (S->run.dt_max > 0) dt = PetscMin(dt, S->run.dt_max);
+  if (S->t + dt > t_stop) dt = t_stop - S->t;
+  else if (S->t + 1.5 * dt > t_stop) dt = 0.5 * (t_stop - S->t); /* no sliver step before a stop */
+  S->dt = dt;
+  PetscCall(PetscLogEventEnd(EV_Dt, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
+{
+  const PetscInt  dim = S->dim, dof = 1 + 2 * dim;
+  const PetscReal *lower = S->scene->lower;
+  PSIndex         ix;
+  PSFields        f;
+  PSShape         sh;
+  PetscReal      *g, *hv, smax = 0.0, dt;
+  PetscInt        p, d, e, a, b, c, n3[3];
+  MPI_Comm        comm = PetscObjectComm((PetscObject)S->sw);
+
+  PetscFunctionBeginUser;
+  PetscCall(ComputeDt(S, t_stop));
+  dt = S->dt;
+  PetscCall(GetIndex(S->da, &ix));
+  PetscCall(FieldsGet(S, &f));
+  PetscCall(PetscFree(S->dx));
+  PetscCall(PetscMalloc1(PetscMax(1, f.n * dim), &S->dx));
+
+  /* 1. P2G: mass, momentum, internal force -(sigma - q I) grad N V */
+  PetscCall(PetscLogEventBegin(EV_P2G, 0, 0, 0, 0));
+  PetscCall(VecZeroEntries(S->Gl));
+  PetscCall(VecGetArray(S->Gl, &g));
+  for (p = 0; p < f.n; p++) {
+    const PetscReal *x = &f.x[p * dim], *v = &f.v[p * dim], m = f.mass[p], V = f.vol[p];
+    PetscReal        s[3][3];
+    ForceStress(dim, &f.sig[p * PSStressComponents(dim)], f.q[p], s);
+    PSShapeEval(S->run.shape, dim, lower, S->h, x, HalfSize(dim, f.V0[p]), &sh);
+    n3[0] = n3[1] = sh.n;
+    n3[2] = dim == 3 ? sh.n : 1;
+    for (c = 0; c < n3[2]; c++)
+      for (b = 0; b < n3[1]; b++)
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal w = sh.w[0][a] * sh.w[1][b] * sh.w[2][c];
+          const PetscReal gr[3] = {sh.dw[0][a] * sh.w[1][b] * sh.w[2][c], sh.w[0][a] * sh.dw[1][b] * sh.w[2][c], sh.w[0][a] * sh.w[1][b] * sh.dw[2][c]};
+          PetscReal      *gn;
+          if (w == 0.0 && gr[0] == 0.0 && gr[1] == 0.0 && gr[2] == 0.0) continue;
+          gn = &g[dof * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
+          gn[0] += w * m;
+          for (d = 0; d < dim; d++) {
+            PetscReal fd = 0.0;
+            for (e = 0; e < dim; e++) fd += s[d][e] * gr[e];
+            gn[1 + d] += w * m * v[d];
+            gn[1 + dim + d] -= V * fd;
+          }
+        }
+  }
+  PetscCall(VecRestoreArray(S->Gl, &g));
+  PetscCall(PetscLogEventEnd(EV_P2G, 0, 0, 0, 0));
+  PetscCall(VecZeroEntries(S->G));
+  PetscCall(DMLocalToGlobal(S->da, S->Gl, ADD_VALUES, S->G));
+
+  /* 2. grid: v_old = mv/m, v_new = v_old + dt f/m, boundary conditions;
+        the node keeps [m, v_new, v_new - v_old] */
+  PetscCall(PetscLogEventBegin(EV_Grid, 0, 0, 0, 0));
+  PetscCall(VecGetArray(S->G, &g));
+  for (c = 0; c < ix.om[2]; c++)
+    for (b = 0; b < ix.om[1]; b++)
+      for (a = 0; a < ix.om[0]; a++) {
+        const PetscInt ip[3] = {ix.os[0] + a - S->pad, ix.os[1] + b - S->pad, dim == 3 ? ix.os[2] + c - S->pad : 0};
+        PetscReal     *gn    = &g[dof * ((c * ix.om[1] + b) * ix.om[0] + a)], vo[3] = {0, 0, 0}, vn[3] = {0, 0, 0};
+        if (gn[0] > S->mass_min) {
+          for (d = 0; d < dim; d++) {
+            vo[d] = gn[1 + d] / gn[0];
+            vn[d] = vo[d] + dt * gn[1 + dim + d] / gn[0];
+          }
+          NodeBC(S, ip, vn);
+        }
+        for (d = 0; d < dim; d++) {
+          gn[1 + d]       = vn[d];
+          gn[1 + dim + d] = vn[d] - vo[d];
+        }
+      }
+  PetscCall(VecRestoreArray(S->G, &g));
+  PetscCall(PetscLogEventEnd(EV_Grid, 0, 0, 0, 0));
+  PetscCall(DMGlobalToLocal(S->da, S->G, INSERT_VALUES, S->Gl));
+
+  /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new; dx_p = dt sum N v_new */
+  PetscCall(PetscLogEventBegin(EV_G2P, 0, 0, 0, 0));
+  PetscCall(VecGetArrayRead(S->Gl, (const PetscScalar **)&g));
+  for (p = 0; p < f.n; p++) {
+    PetscReal vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
+    PSShapeEval(S->run.shape, dim, lower, S->h, &f.x[p * dim], HalfSize(dim, f.V0[p]), &sh);
+    n3[0] = n3[1] = sh.n;
+    n3[2] = dim == 3 ? sh.n : 1;
+    for (c = 0; c < n3[2]; c++)
+      for (b = 0; b < n3[1]; b++)
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal  w  = sh.w[0][a] * sh.w[1][b] * sh.w[2][c];
+          const PetscReal *gn = &g[dof * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
+          if (w == 0.0) continue;
+          for (d = 0; d < dim; d++) {
+            vpic[d] += w * gn[1 + d];
+            dv[d] += w * gn[1 + dim + d];
+          }
+        }
+    for (d = 0; d < dim; d++) {
+      f.v[p * dim + d]  = (1.0 - S->run.pic_fraction) * (f.v[p * dim + d] + dv[d]) + S->run.pic_fraction * vpic[d];
+      S->dx[p * dim + d] = dt * vpic[d];
+    }
+  }
+  PetscCall(VecRestoreArrayRead(S->Gl, (const PetscScalar **)&g));
+  PetscCall(PetscLogEventEnd(EV_G2P, 0, 0, 0, 0));
+
+  /* 4. re-project the new marker momentum; v_i = (mv)_i / m_i, boundary conditions */
+  PetscCall(PetscLogEventBegin(EV_Reproject, 0, 0, 0, 0));
+  PetscCall(VecZeroEntries(S->Hl));
+  PetscCall(VecGetArray(S->Hl, &hv));
+  for (p = 0; p < f.n; p++) {
+    PSShapeEval(S->run.shape, dim, lower, S->h, &f.x[p * dim], HalfSize(dim, f.V0[p]), &sh);
+    n3[0] = n3[1] = sh.n;
+    n3[2] = dim == 3 ? sh.n : 1;
+    for (c = 0; c < n3[2]; c++)
+      for (b = 0; b < n3[1]; b++)
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal w = sh.w[0][a] * sh.w[1][b] * sh.w[2][c];
+          PetscReal      *hn;
+          if (w == 0.0) continue;
+          hn = &hv[dim * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
+          for (d = 0; d < dim; d++) hn[d] += w * f.mass[p] * f.v[p * dim + d];
+        }
+  }
+  PetscCall(VecRestoreArray(S->Hl, &hv));
+  PetscCall(VecZeroEntries(S->H));
+  PetscCall(DMLocalToGlobal(S->dav, S->Hl, ADD_VALUES, S->H));
+  PetscCall(VecGetArray(S->H, &hv));
+  PetscCall(VecGetArrayRead(S->G, (const PetscScalar **)&g));
+  for (c = 0; c < ix.om[2]; c++)
+    for (b = 0; b < ix.om[1]; b++)
+      for (a = 0; a < ix.om[0]; a++) {
+        const PetscInt  o     = (c * ix.om[1] + b) * ix.om[0] + a;
+        const PetscInt  ip[3] = {ix.os[0] + a - S->pad, ix.os[1] + b - S->pad, dim == 3 ? ix.os[2] + c - S->pad : 0};
+        const PetscReal m     = g[dof * o];
+        PetscReal       vn[3] = {0, 0, 0};
+        if (m > S->mass_min) {
+          for (d = 0; d < dim; d++) vn[d] = hv[dim * o + d] / m;
+          NodeBC(S, ip, vn);
+        }
+        for (d = 0; d < dim; d++) hv[dim * o + d] = vn[d];
+      }
+  PetscCall(VecRestoreArrayRead(S->G, (const PetscScalar **)&g));
+  PetscCall(VecRestoreArray(S->H, &hv));
+  PetscCall(PetscLogEventEnd(EV_Reproject, 0, 0, 0, 0));
+  PetscCall(DMGlobalToLocal(S->dav, S->H, INSERT_VALUES, S->Hl));
+
+  /* 5. velocity gradient, stress update; then move the markers */
+  PetscCall(PetscLogEventBegin(EV_Stress, 0, 0, 0, 0));
+  PetscCall(VecGetArrayRead(S->Hl, (const PetscScalar **)&hv));
+  for (p = 0; p < f.n; p++) {
+    PetscReal     L[3][3] = {{0}}, J, cs, v2 = 0.0, hm = 0.0;
+    PSMarkerState st;
+    PSShapeEval(S->run.shape, dim, lower, S->h, &f.x[p * dim], HalfSize(dim, f.V0[p]), &sh);
+    n3[0] = n3[1] = sh.n;
+    n3[2] = dim == 3 ? sh.n : 1;
+    for (c = 0; c < n3[2]; c++)
+      for (b = 0; b < n3[1]; b++)
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal  gr[3] = {sh.dw[0][a] * sh.w[1][b] * sh.w[2][c], sh.w[0][a] * sh.dw[1][b] * sh.w[2][c], sh.w[0][a] * sh.w[1][b] * sh.dw[2][c]};
+          const PetscReal *vn    = &hv[dim * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
+          for (d = 0; d < dim; d++)
+            for (e = 0; e < dim; e++) L[d][e] += vn[d] * gr[e];
+        }
+    st.F     = &f.F[p * dim * dim];
+    st.V0    = f.V0[p];
+    st.vol   = &f.vol[p];
+    st.sdev  = &f.sdev[p * PSStressComponents(dim)];
+    st.sig   = &f.sig[p * PSStressComponents(dim)];
+    st.p     = &f.p[p];
+    st.q     = &f.q[p];
+    st.e     = &f.e[p];
+    st.eps_p = f.eps_p ? &f.eps_p[p] : NULL;
+    st.T     = f.T ? &f.T[p] : NULL;
+    st.D     = f.D ? &f.D[p] : NULL;
+    for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
+    PetscCall(PSMarkerUpdate(&S->mat[f.mat[p]], dim, L, dt, hm, S->run.c_linear, S->run.c_quadratic, &st, &J, &cs));
+    PetscCheck(J > 0.0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "marker %lld (material %" PetscInt_FMT ") would reach J = det F = %g <= 0 at step %" PetscInt_FMT ", t = %g s: the step inverts it; lower run.cfl or refine the grid",
+               (long long)f.id[p], f.mat[p], (double)J, S->step + 1, (double)S->t);
+    for (d = 0; d < dim; d++) {
+      f.x[p * dim + d] += S->dx[p * dim + d];
+      v2 += f.v[p * dim + d] * f.v[p * dim + d];
+    }
+    /* the viscous term tightens the CFL limit in compression (q / (rho c)) */
+    smax = PetscMax(smax, cs + PetscSqrtReal(v2) + f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs, 1e-300)));
+  }
+  PetscCall(VecRestoreArrayRead(S->Hl, (const PetscScalar **)&hv));
+  PetscCall(PetscLogEventEnd(EV_Stress, 0, 0, 0, 0));
+  PetscCall(FieldsRestore(S, &f));
+  PetscCallMPI(MPI_Allreduce(&smax, &S->smax, 1, MPIU_REAL, MPI_MAX, comm));
+
+  /* 6. markers out of the domain are booked and removed; the rest migrate */
+  PetscCall(PSSolverMigrate(S));
+  S->t += dt;
+  S->step++;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Remove markers outside the domain (booking mass, momentum, energy), then send
+   every marker to the rank that owns its cell. */
+PetscErrorCode PSSolverMigrate(PSSolver *S)
+{
+  const PetscInt dim = S->dim;
+  PSFields       f;
+  PetscInt       p, d, *rank;
+  PetscInt       nrm = 0, *rm = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_Migrate, 0, 0, 0, 0));
+  PetscCall(FieldsGet(S, &f));
+  PetscCall(PetscMalloc1(PetscMax(1, f.n), &rm));
+  for (p = 0; p < f.n; p++) {
+    PetscBool out = PETSC_FALSE;
+    for (d = 0; d < dim; d++)
+      if (!(f.x[p * dim + d] >= S->scene->lower[d] && f.x[p * dim + d] < S->scene->upper[d])) out = PETSC_TRUE; /* NaN too */
+    if (!out) continue;
+    {
+      PetscReal v2 = 0.0;
+      for (d = 0; d < dim; d++) {
+        S->lost_local.p[d] += f.mass[p] * f.v[p * dim + d];
+        v2 += f.v[p * dim + d] * f.v[p * dim + d];
+      }
+      S->lost_local.mass += f.mass[p];
+      S->lost_local.kinetic += 0.5 * f.mass[p] * v2;
+      S->lost_local.internal += f.mass[p] * f.e[p];
+      S->lost_local.markers++;
+    }
+    rm[nrm++] = p;
+  }
+  PetscCall(FieldsRestore(S, &f));
+  /* from the back: DMSwarm moves the last marker into the hole */
+  for (p = nrm - 1; p >= 0; p--) PetscCall(DMSwarmRemovePointAtIndex(S->sw, rm[p]));
+  PetscCall(PetscFree(rm));
+
+  PetscCall(DMSwarmGetLocalSize(S->sw, &f.n));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&f.x));
+  PetscCall(DMSwarmGetField(S->sw, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  for (p = 0; p < f.n; p++) {
+    PetscInt r[3] = {0, 0, 0};
+    for (d = 0; d < dim; d++) {
+      PetscInt cell = (PetscInt)floor((f.x[p * dim + d] - S->scene->lower[d]) / S->h[d]), node, k = 0;
+      cell = PetscMin(PetscMax(cell, 0), S->scene->cells[d] - 1);
+      node = cell + S->pad;
+      while (k + 1 < S->nproc[d] && node >= S->lx[d][k + 1]) k++;
+      r[d] = k;
+    }
+    rank[p] = r[0] + S->nproc[0] * (r[1] + S->nproc[1] * r[2]);
+  }
+  PetscCall(DMSwarmRestoreField(S->sw, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&f.x));
+  PetscCall(DMSwarmMigrate(S->sw, PETSC_TRUE));
+  PetscCall(PetscLogEventEnd(EV_Migrate, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Global totals now, with the booked losses. */
+PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
+{
+  const PetscInt dim = S->dim;
+  PSFields       f;
+  PetscInt       p, d;
+  PetscReal      loc[12] = {0}, glob[12], pmax = -PETSC_MAX_REAL, lost[8], glost[8];
+  PetscInt64     nl[2], ng[2];
+  MPI_Comm       comm = PetscObjectComm((PetscObject)S->sw);
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldsGet(S, &f));
+  for (p = 0; p < f.n; p++) {
+    PetscReal v2 = 0.0;
+    loc[0] += f.mass[p];
+    for (d = 0; d < dim; d++) {
+      loc[1 + d] += f.mass[p] * f.v[p * dim + d];
+      v2 += f.v[p * dim + d] * f.v[p * dim + d];
+    }
+    loc[4] += 0.5 * f.mass[p] * v2;
+    loc[5] += f.mass[p] * f.e[p];
+    pmax = PetscMax(pmax, f.p[p]);
+  }
+  PetscCall(FieldsRestore(S, &f));
+  PetscCallMPI(MPI_Allreduce(loc, glob, 6, MPIU_REAL, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(&pmax, &T->max_pressure, 1, MPIU_REAL, MPI_MAX, comm));
+  lost[0] = S->lost_local.mass;
+  lost[1] = S->lost_local.p[0];
+  lost[2] = S->lost_local.p[1];
+  lost[3] = S->lost_local.p[2];
+  lost[4] = S->lost_local.kinetic + S->lost_local.internal;
+  PetscCallMPI(MPI_Allreduce(lost, glost, 5, MPIU_REAL, MPI_SUM, comm));
+  nl[0] = f.n;
+  nl[1] = S->lost_local.markers;
+  PetscCallMPI(MPI_Allreduce(nl, ng, 2, MPIU_INT64, MPI_SUM, comm));
+  T->mass     = glob[0];
+  T->p[0]     = glob[1];
+  T->p[1]     = glob[2];
+  T->p[2]     = glob[3];
+  T->kinetic  = glob[4];
+  T->internal = glob[5];
+  T->lost_mass = glost[0];
+  T->lost_p[0] = glost[1];
+  T->lost_p[1] = glost[2];
+  T->lost_p[2] = glost[3];
+  T->lost_energy = glost[4];
+  T->markers      = ng[0];
+  T->lost_markers = ng[1];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
