@@ -22,6 +22,7 @@ typedef struct {
   DM                 da1;  /* dof-1 grid for output */
   Vec                out1;
   PetscInt           index;  /* next output number */
+  PetscInt           hstep;  /* step of the last history row */
   PetscReal          t_last; /* time of the last output (s) */
 } PSRunIO;
 
@@ -72,6 +73,8 @@ static PetscErrorCode History(PSSolver *S, PSRunIO *io)
   MPI_Comm    comm = PetscObjectComm((PetscObject)S->sw);
 
   PetscFunctionBeginUser;
+  if (io->hstep == S->step && S->step > 0) PetscFunctionReturn(PETSC_SUCCESS); /* written already */
+  io->hstep = S->step;
   PetscCall(PSSolverTotals(S, &T));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (!rank && io->hist) {
@@ -162,7 +165,8 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
     /* progress on rank 0: step, time, dt, ETA */
     PetscCall(PetscTime(&now));
     if (S->run.progress_interval > 0 ? S->step % S->run.progress_interval == 0 : now - wlast > 2.0) {
-      const PetscReal frac = (S->t - t_start) / (S->run.t_end - t_start);
+      PetscReal frac = (S->t - t_start) / (S->run.t_end - t_start);
+      if (S->run.max_steps > 0) frac = PetscMax(frac, (PetscReal)(S->step - step0) / S->run.max_steps);
       PetscCall(PetscPrintf(comm, "step %7" PetscInt_FMT "  t %.6e s  dt %.3e s  %5.1f%%  ETA %.1f s\n", S->step, (double)S->t, (double)S->dt, (double)(100 * frac), (double)(frac > 0 ? (now - w0) * (1 - frac) / frac : 0)));
       wlast = now;
     }

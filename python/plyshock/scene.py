@@ -148,9 +148,9 @@ class Material:
         if m["type"] not in table:
             raise DeckError(f"{path}.{key}.type", f"unknown {key} type {m['type']!r}; allowed: {'|'.join(table)}")
         check_keys(m, table[m["type"]], f"{path}.{key}")
-        for k, v in m.items():
+        for k, v in list(m.items()):
             if k != "type":
-                number(v, f"{path}.{key}.{k}")
+                m[k] = number(v, f"{path}.{key}.{k}")     # YAML reads 1.0e9 (no exponent sign) as a string
         required = {"isotropic": ("E", "nu"), "orthotropic": ELASTIC_KEYS["orthotropic"][1:], "mie-gruneisen": ("c0", "s", "gamma0"),
                     "johnson-cook": ("A", "B", "n", "C", "m", "T_melt") if key == "strength" else ("D1", "D2", "D3", "D4", "D5"),
                     "elastic-plastic": ("yield_stress",), "none": ()}[m["type"]]
@@ -239,7 +239,7 @@ class Run:
     pic_fraction: float = 0.0             # PIC share of the velocity update (0 = FLIP)
     dt_growth: float = 1.1
     dt_max: float = 0.0                   # s; 0 = none
-    mass_threshold: float = 1e-6          # of a full cell of the lightest material
+    mass_threshold: float = 1e-10         # of a full cell of the lightest material: lighter nodes get no velocity
     max_steps: int = 0
     history_interval: int = 10
     progress_interval: int = 0

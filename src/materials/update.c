@@ -9,8 +9,8 @@
      strain, temperature by chi * plastic work / c_v, damage by the failure strain).
   4. Artificial viscosity q = rho h (c_q h tr(D)^2 + c_l c |tr D|) in compression
      only (von Neumann-Richtmyer quadratic + linear, Wilkins 1980).
-  5. Energy with trapezoidal pressure work, solved exactly for p = A + B e:
-       e1 = e0 + dt/rho s~:D~' - dt trD/rho ((p0 + p1)/2 + q)
+  5. Energy with trapezoidal work, solved exactly for p = A + B e:
+       e1 = e0 + dt/rho (s~0 + s~1)/2 : D~' - dt trD/rho ((p0 + p1)/2 + q)
   6. sigma = R s~ R^T - p I (q is kept apart, added only in the force).
   Plane strain (2D): F_zz = 1, L_zz = 0; sigma_zz from the deviator.
 */
@@ -126,7 +126,9 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
   PolarRotation(Fn, R);
   Unpack(dim, s->sdev, S);
   if (M->G > 0.0 && !failed) {
-    PetscReal seq2 = 0.0, Dd = 0.0;
+    PetscReal seq2 = 0.0, Dd = 0.0, S0[3][3];
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) S0[i][j] = S[i][j];
     /* D~' = R^T D' R */
     for (i = 0; i < 3; i++)
       for (j = 0; j < 3; j++) {
@@ -162,8 +164,9 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
         }
       }
     }
+    /* deviatoric work with the mid-step stress (trapezoidal, like the pressure work) */
     for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) wdev += S[i][j] * Dt[i][j];
+      for (j = 0; j < 3; j++) wdev += 0.5 * (S0[i][j] + S[i][j]) * Dt[i][j];
   }
   if (failed) {
     for (i = 0; i < 3; i++)
@@ -177,6 +180,7 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
   c = PetscSqrtReal(c2);
   if (trD < 0.0) q = rho * h * (c_quadratic * h * trD * trD + c_linear * c * PetscAbsReal(trD));
   {
+    /* the viscous work, like the pressure work, with the step's mean q */
     const PetscReal a = dt * trD / rho;
     e1 = (*s->e + dt * wdev / rho - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
   }
