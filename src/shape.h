@@ -17,7 +17,7 @@
 
 #define PS_SHAPE_MAXN 4
 
-typedef struct {
+typedef struct PSShape_ {
   PetscInt  i0[3];                 /* first DMDA node per direction */
   PetscInt  n;                     /* nodes per direction */
   PetscReal w[3][PS_SHAPE_MAXN];   /* weights */

@@ -107,6 +107,8 @@ typedef struct {
   PetscInt      *lx[3];          /* DMDA node ownership: rank k owns [lx[k], lx[k+1]) */
   PetscInt       nproc[3];
   PetscReal     *dx;             /* scratch: marker displacement of the step */
+  struct PSShape_ *shape;        /* scratch: each marker's shape functions at x_p^n */
+  PetscInt       ncache;         /* room in the scratch arrays (markers) */
   PSTotals       lost_local;     /* this rank's booked removals, cumulative */
 } PSSolver;
 

@@ -104,6 +104,7 @@ PetscErrorCode PSSolverDestroy(PSSolver **S)
   PetscCall(DMDestroy(&(*S)->dav));
   PetscCall(PetscFree((*S)->mat));
   PetscCall(PetscFree((*S)->dx));
+  PetscCall(PetscFree((*S)->shape));
   PetscCall(PetscFree(*S));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -294,8 +295,13 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   dt = S->dt;
   PetscCall(GetIndex(S->da, &ix));
   PetscCall(FieldsGet(S, &f));
-  PetscCall(PetscFree(S->dx));
-  PetscCall(PetscMalloc1(PetscMax(1, f.n * dim), &S->dx));
+  if (f.n > S->ncache) {
+    PetscCall(PetscFree(S->dx));
+    PetscCall(PetscFree(S->shape));
+    S->ncache = (PetscInt)(1.2 * f.n) + 16;
+    PetscCall(PetscMalloc1(S->ncache * dim, &S->dx));
+    PetscCall(PetscMalloc1(S->ncache, &S->shape));
+  }
 
   /* 1. P2G: mass, momentum, internal force -(sigma - q I) grad N V */
   PetscCall(PetscLogEventBegin(EV_P2G, 0, 0, 0, 0));
@@ -305,25 +311,35 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
     const PetscReal *x = &f.x[p * dim], *v = &f.v[p * dim], m = f.mass[p], V = f.vol[p];
     PetscReal        s[3][3];
     ForceStress(dim, &f.sig[p * PSStressComponents(dim)], f.q[p], s);
-    PSShapeEval(S->run.shape, dim, lower, S->h, x, HalfSize(dim, f.V0[p]), &sh);
+    PSShapeEval(S->run.shape, dim, lower, S->h, x, HalfSize(dim, f.V0[p]), &S->shape[p]);
+    sh    = S->shape[p]; /* the step's transfers all use N_ip at x_p^n (MUSL) */
     n3[0] = n3[1] = sh.n;
     n3[2] = dim == 3 ? sh.n : 1;
-    for (c = 0; c < n3[2]; c++)
-      for (b = 0; b < n3[1]; b++)
-        for (a = 0; a < n3[0]; a++) {
-          const PetscReal w = sh.w[0][a] * sh.w[1][b] * sh.w[2][c];
-          const PetscReal gr[3] = {sh.dw[0][a] * sh.w[1][b] * sh.w[2][c], sh.w[0][a] * sh.dw[1][b] * sh.w[2][c], sh.w[0][a] * sh.w[1][b] * sh.dw[2][c]};
-          PetscReal      *gn;
-          if (w == 0.0 && gr[0] == 0.0 && gr[1] == 0.0 && gr[2] == 0.0) continue;
-          gn = &g[dof * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
-          gn[0] += w * m;
-          for (d = 0; d < dim; d++) {
-            PetscReal fd = 0.0;
-            for (e = 0; e < dim; e++) fd += s[d][e] * gr[e];
-            gn[1 + d] += w * m * v[d];
-            gn[1 + dim + d] -= V * fd;
+    {
+      /* per marker: m v and the stress rows, then 27 (9) nodes of w, grad w */
+      PetscReal mv[3], Vs[3][3];
+      for (d = 0; d < dim; d++) {
+        mv[d] = m * v[d];
+        for (e = 0; e < dim; e++) Vs[d][e] = V * s[d][e];
+      }
+      for (c = 0; c < n3[2]; c++)
+        for (b = 0; b < n3[1]; b++) {
+          const PetscReal wyz = sh.w[1][b] * sh.w[2][c], dyz = sh.dw[1][b] * sh.w[2][c], wydz = sh.w[1][b] * sh.dw[2][c];
+          PetscReal      *gr  = &g[dof * Lidx(&ix, sh.i0[0], sh.i0[1] + b, sh.i0[2] + c)];
+          for (a = 0; a < n3[0]; a++) {
+            const PetscReal w     = sh.w[0][a] * wyz;
+            const PetscReal gw[3] = {sh.dw[0][a] * wyz, sh.w[0][a] * dyz, sh.w[0][a] * wydz};
+            PetscReal      *gn    = gr + dof * a;
+            gn[0] += w * m;
+            for (d = 0; d < dim; d++) {
+              PetscReal fd = 0.0;
+              for (e = 0; e < dim; e++) fd += Vs[d][e] * gw[e];
+              gn[1 + d] += w * mv[d];
+              gn[1 + dim + d] -= fd;
+            }
           }
         }
+    }
   }
   PetscCall(VecRestoreArray(S->Gl, &g));
   PetscCall(PetscLogEventEnd(EV_P2G, 0, 0, 0, 0));
@@ -355,52 +371,73 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PetscCall(PetscLogEventEnd(EV_Grid, 0, 0, 0, 0));
   PetscCall(DMGlobalToLocal(S->da, S->G, INSERT_VALUES, S->Gl));
 
-  /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new; dx_p = dt sum N v_new */
+  /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new; dx_p = dt sum N v_new;
+     4. and in the same pass the re-projection (mv)_i = sum_p N_ip m_p v_p^{n+1} */
   PetscCall(PetscLogEventBegin(EV_G2P, 0, 0, 0, 0));
-  PetscCall(VecGetArrayRead(S->Gl, (const PetscScalar **)&g));
-  for (p = 0; p < f.n; p++) {
-    PetscReal vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
-    PSShapeEval(S->run.shape, dim, lower, S->h, &f.x[p * dim], HalfSize(dim, f.V0[p]), &sh);
-    n3[0] = n3[1] = sh.n;
-    n3[2] = dim == 3 ? sh.n : 1;
-    for (c = 0; c < n3[2]; c++)
-      for (b = 0; b < n3[1]; b++)
-        for (a = 0; a < n3[0]; a++) {
-          const PetscReal  w  = sh.w[0][a] * sh.w[1][b] * sh.w[2][c];
-          const PetscReal *gn = &g[dof * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
-          if (w == 0.0) continue;
-          for (d = 0; d < dim; d++) {
-            vpic[d] += w * gn[1 + d];
-            dv[d] += w * gn[1 + dim + d];
-          }
-        }
-    for (d = 0; d < dim; d++) {
-      f.v[p * dim + d]  = (1.0 - S->run.pic_fraction) * (f.v[p * dim + d] + dv[d]) + S->run.pic_fraction * vpic[d];
-      S->dx[p * dim + d] = dt * vpic[d];
-    }
-  }
-  PetscCall(VecRestoreArrayRead(S->Gl, (const PetscScalar **)&g));
-  PetscCall(PetscLogEventEnd(EV_G2P, 0, 0, 0, 0));
-
-  /* 4. re-project the new marker momentum; v_i = (mv)_i / m_i, boundary conditions */
-  PetscCall(PetscLogEventBegin(EV_Reproject, 0, 0, 0, 0));
   PetscCall(VecZeroEntries(S->Hl));
   PetscCall(VecGetArray(S->Hl, &hv));
+  PetscCall(VecGetArrayRead(S->Gl, (const PetscScalar **)&g));
   for (p = 0; p < f.n; p++) {
-    PSShapeEval(S->run.shape, dim, lower, S->h, &f.x[p * dim], HalfSize(dim, f.V0[p]), &sh);
-    n3[0] = n3[1] = sh.n;
-    n3[2] = dim == 3 ? sh.n : 1;
-    for (c = 0; c < n3[2]; c++)
-      for (b = 0; b < n3[1]; b++)
-        for (a = 0; a < n3[0]; a++) {
-          const PetscReal w = sh.w[0][a] * sh.w[1][b] * sh.w[2][c];
-          PetscReal      *hn;
-          if (w == 0.0) continue;
-          hn = &hv[dim * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
-          for (d = 0; d < dim; d++) hn[d] += w * f.mass[p] * f.v[p * dim + d];
+    PetscReal      vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, mv[3];
+    const PSShape *sp      = &S->shape[p];
+    n3[0] = n3[1] = sp->n;
+    n3[2] = dim == 3 ? sp->n : 1;
+    {
+      /* accumulate in registers: v_pic = sum N v_new, dv = sum N (v_new - v_old) */
+      PetscReal a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
+      for (c = 0; c < n3[2]; c++)
+        for (b = 0; b < n3[1]; b++) {
+          const PetscReal  wyz = sp->w[1][b] * sp->w[2][c];
+          const PetscReal *gr  = &g[dof * Lidx(&ix, sp->i0[0], sp->i0[1] + b, sp->i0[2] + c)];
+          if (dim == 3)
+            for (a = 0; a < n3[0]; a++) {
+              const PetscReal  w  = sp->w[0][a] * wyz;
+              const PetscReal *gn = gr + 7 * a;
+              a0 += w * gn[1];
+              a1 += w * gn[2];
+              a2 += w * gn[3];
+              b0 += w * gn[4];
+              b1 += w * gn[5];
+              b2 += w * gn[6];
+            }
+          else
+            for (a = 0; a < n3[0]; a++) {
+              const PetscReal  w  = sp->w[0][a] * wyz;
+              const PetscReal *gn = gr + 5 * a;
+              a0 += w * gn[1];
+              a1 += w * gn[2];
+              b0 += w * gn[3];
+              b1 += w * gn[4];
+            }
         }
+      vpic[0] = a0;
+      vpic[1] = a1;
+      vpic[2] = a2;
+      dv[0]   = b0;
+      dv[1]   = b1;
+      dv[2]   = b2;
+    }
+    for (d = 0; d < dim; d++) {
+      f.v[p * dim + d]   = (1.0 - S->run.pic_fraction) * (f.v[p * dim + d] + dv[d]) + S->run.pic_fraction * vpic[d];
+      S->dx[p * dim + d] = dt * vpic[d];
+      mv[d]              = f.mass[p] * f.v[p * dim + d];
+    }
+    for (c = 0; c < n3[2]; c++)
+      for (b = 0; b < n3[1]; b++) {
+        const PetscReal wyz = sp->w[1][b] * sp->w[2][c];
+        PetscReal      *hr  = &hv[dim * Lidx(&ix, sp->i0[0], sp->i0[1] + b, sp->i0[2] + c)];
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal w  = sp->w[0][a] * wyz;
+          PetscReal      *hn = hr + dim * a;
+          for (d = 0; d < dim; d++) hn[d] += w * mv[d];
+        }
+      }
   }
+  PetscCall(VecRestoreArrayRead(S->Gl, (const PetscScalar **)&g));
   PetscCall(VecRestoreArray(S->Hl, &hv));
+  PetscCall(PetscLogEventEnd(EV_G2P, 0, 0, 0, 0));
+
+  PetscCall(PetscLogEventBegin(EV_Reproject, 0, 0, 0, 0));
   PetscCall(VecZeroEntries(S->H));
   PetscCall(DMLocalToGlobal(S->dav, S->Hl, ADD_VALUES, S->H));
   PetscCall(VecGetArray(S->H, &hv));
@@ -429,17 +466,50 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   for (p = 0; p < f.n; p++) {
     PetscReal     L[3][3] = {{0}}, J, cs, v2 = 0.0, hm = 0.0;
     PSMarkerState st;
-    PSShapeEval(S->run.shape, dim, lower, S->h, &f.x[p * dim], HalfSize(dim, f.V0[p]), &sh);
+    sh    = S->shape[p];
     n3[0] = n3[1] = sh.n;
     n3[2] = dim == 3 ? sh.n : 1;
-    for (c = 0; c < n3[2]; c++)
-      for (b = 0; b < n3[1]; b++)
-        for (a = 0; a < n3[0]; a++) {
-          const PetscReal  gr[3] = {sh.dw[0][a] * sh.w[1][b] * sh.w[2][c], sh.w[0][a] * sh.dw[1][b] * sh.w[2][c], sh.w[0][a] * sh.w[1][b] * sh.dw[2][c]};
-          const PetscReal *vn    = &hv[dim * Lidx(&ix, sh.i0[0] + a, sh.i0[1] + b, sh.i0[2] + c)];
-          for (d = 0; d < dim; d++)
-            for (e = 0; e < dim; e++) L[d][e] += vn[d] * gr[e];
+    {
+      /* L = sum_i v_i (x) grad N_ip, accumulated in registers */
+      PetscReal l00 = 0, l01 = 0, l02 = 0, l10 = 0, l11 = 0, l12 = 0, l20 = 0, l21 = 0, l22 = 0;
+      for (c = 0; c < n3[2]; c++)
+        for (b = 0; b < n3[1]; b++) {
+          const PetscReal  wyz = sh.w[1][b] * sh.w[2][c], dyz = sh.dw[1][b] * sh.w[2][c], wydz = sh.w[1][b] * sh.dw[2][c];
+          const PetscReal *hr  = &hv[dim * Lidx(&ix, sh.i0[0], sh.i0[1] + b, sh.i0[2] + c)];
+          if (dim == 3)
+            for (a = 0; a < n3[0]; a++) {
+              const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz, g2 = sh.w[0][a] * wydz;
+              const PetscReal *vn = hr + 3 * a;
+              l00 += vn[0] * g0;
+              l01 += vn[0] * g1;
+              l02 += vn[0] * g2;
+              l10 += vn[1] * g0;
+              l11 += vn[1] * g1;
+              l12 += vn[1] * g2;
+              l20 += vn[2] * g0;
+              l21 += vn[2] * g1;
+              l22 += vn[2] * g2;
+            }
+          else
+            for (a = 0; a < n3[0]; a++) {
+              const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz;
+              const PetscReal *vn = hr + 2 * a;
+              l00 += vn[0] * g0;
+              l01 += vn[0] * g1;
+              l10 += vn[1] * g0;
+              l11 += vn[1] * g1;
+            }
         }
+      L[0][0] = l00;
+      L[0][1] = l01;
+      L[0][2] = l02;
+      L[1][0] = l10;
+      L[1][1] = l11;
+      L[1][2] = l12;
+      L[2][0] = l20;
+      L[2][1] = l21;
+      L[2][2] = l22;
+    }
     st.F     = &f.F[p * dim * dim];
     st.V0    = f.V0[p];
     st.vol   = &f.vol[p];

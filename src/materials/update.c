@@ -55,28 +55,32 @@ static void PolarRotation(const PetscReal F[3][3], PetscReal R[3][3])
 {
   PetscReal X[3][3], C[3][3];
   PetscInt  it, i, j;
+  PetscBool last = PETSC_FALSE;
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) X[i][j] = F[i][j];
   for (it = 0; it < 40; it++) {
-    const PetscReal d = Det3(X);
+    const PetscReal di = 1.0 / Det3(X);
     PetscReal       diff = 0.0;
     /* X^-T = cofactor(X) / det X */
-    C[0][0] = (X[1][1] * X[2][2] - X[1][2] * X[2][1]) / d;
-    C[0][1] = -(X[1][0] * X[2][2] - X[1][2] * X[2][0]) / d;
-    C[0][2] = (X[1][0] * X[2][1] - X[1][1] * X[2][0]) / d;
-    C[1][0] = -(X[0][1] * X[2][2] - X[0][2] * X[2][1]) / d;
-    C[1][1] = (X[0][0] * X[2][2] - X[0][2] * X[2][0]) / d;
-    C[1][2] = -(X[0][0] * X[2][1] - X[0][1] * X[2][0]) / d;
-    C[2][0] = (X[0][1] * X[1][2] - X[0][2] * X[1][1]) / d;
-    C[2][1] = -(X[0][0] * X[1][2] - X[0][2] * X[1][0]) / d;
-    C[2][2] = (X[0][0] * X[1][1] - X[0][1] * X[1][0]) / d;
+    C[0][0] = (X[1][1] * X[2][2] - X[1][2] * X[2][1]) * di;
+    C[0][1] = -(X[1][0] * X[2][2] - X[1][2] * X[2][0]) * di;
+    C[0][2] = (X[1][0] * X[2][1] - X[1][1] * X[2][0]) * di;
+    C[1][0] = -(X[0][1] * X[2][2] - X[0][2] * X[2][1]) * di;
+    C[1][1] = (X[0][0] * X[2][2] - X[0][2] * X[2][0]) * di;
+    C[1][2] = -(X[0][0] * X[2][1] - X[0][1] * X[2][0]) * di;
+    C[2][0] = (X[0][1] * X[1][2] - X[0][2] * X[1][1]) * di;
+    C[2][1] = -(X[0][0] * X[1][2] - X[0][2] * X[1][0]) * di;
+    C[2][2] = (X[0][0] * X[1][1] - X[0][1] * X[1][0]) * di;
     for (i = 0; i < 3; i++)
       for (j = 0; j < 3; j++) {
         const PetscReal y = 0.5 * (X[i][j] + C[i][j]);
         diff += PetscAbsReal(y - X[i][j]);
         X[i][j] = y;
       }
-    if (diff < 1e-14) break;
+    /* quadratic convergence: once the change is below 1e-8 one more iteration
+       reaches round-off */
+    if (last) break;
+    if (diff < 1e-8) last = PETSC_TRUE;
   }
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) R[i][j] = X[i][j];
