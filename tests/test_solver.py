@@ -197,3 +197,31 @@ def test_run_input_errors():
     with pytest.raises(DeckError) as e:
         Run(t_end=1.0, shape="cubic").validate()
     assert e.value.path == "run.shape"
+
+
+def test_verify_measures_errors_and_plots(tmpdir_mpi):
+    """`plyshock verify`'s measurement: exact-profile errors of one coarse run
+    per problem, and the work-precision picture and run plots it draws."""
+    from plyshock.verify import plot, run_one
+    rows = []
+    for problem in ("plate", "wave"):
+        for h in (100e-6, 50e-6):
+            l1, plat, wall, n, steps = run_one(problem, h, "bspline2")
+            assert plat < 0.01 and l1 < 0.12 and steps > 0
+            rows.append(dict(problem=problem, shape="bspline2", h=h, markers=n, steps=steps, wall_s=wall, L1=l1, plateau=plat))
+    # finer is better for both problems at these sizes
+    assert rows[1]["L1"] < rows[0]["L1"] and rows[3]["L1"] < rows[2]["L1"]
+    if COMM.rank == 0:
+        orders = plot(rows, os.path.join(tmpdir_mpi, "v.png"))
+        assert os.path.getsize(os.path.join(tmpdir_mpi, "v.png")) > 10000 and all(o[0] > 0 for o in orders.values())
+    COMM.Barrier()
+    # a run's history and a step coloured by a field
+    scene = strip(0.01, 2, 100e-6, [Body("b", box=Box([0.002, 0], [0.006, 2e-4]), material="cu", velocity=[300.0, 0])],
+                  [CU], Run(t_end=2e-7))
+    out = os.path.join(tmpdir_mpi, "run")
+    run_scene(scene, out)
+    if COMM.rank == 0:
+        from plyshock.post import plot_field, plot_history
+        assert os.path.getsize(plot_history(out, os.path.join(out, "h.png"))) > 10000
+        assert os.path.getsize(plot_field(os.path.join(out, "markers_00001.h5"), os.path.join(out, "p.png"), "pressure", window=(400, 300))) > 1000
+    COMM.Barrier()

@@ -3,7 +3,9 @@
     plyshock check SCENE.yaml                    validate; expected markers and memory
     plyshock init SCENE.yaml -o OUT.h5 [--png F] insert markers (under mpiexec or alone)
     plyshock run SCENE.yaml -o OUTDIR            insert and run to run.t_end (-run_<key> overrides)
-    plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply
+    plyshock verify [-o DIR] [--levels N]        error against run time (work-precision), CSV + PNG
+    plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME
+    plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
 Bad input exits with status 2 and a message naming the deck key.
@@ -38,6 +40,9 @@ def _parser():
     r = sub.add_parser("run", help="insert a scene and run it to run.t_end (explicit MPM); -run_<key> overrides the deck's run section")
     r.add_argument("deck")
     r.add_argument("-o", "--output", required=True, help="output directory")
+    v = sub.add_parser("verify", help="error against run time: plate impact and elastic wave, every shape function, finer grids")
+    v.add_argument("-o", "--output", default="out/verify", help="output directory (verify.csv, verify.png)")
+    v.add_argument("--levels", type=int, default=3, help="grid levels from 100 um, halving (default 3)")
     pl = sub.add_parser("plot", help="render markers with orientation glyphs coloured by ply, off screen")
     pl.add_argument("markers", help="a marker file written by plyshock init")
     pl.add_argument("--png", required=True)
@@ -46,6 +51,11 @@ def _parser():
     pl.add_argument("--zoom", type=float, nargs="+", metavar="X", help="zoom box: x0 y0 x1 y1 (2D) or x0 y0 z0 x1 y1 z1 (3D), metres")
     pl.add_argument("--color", default="ply", choices=("ply", "body", "material"), help="what colours the markers (default ply)")
     pl.add_argument("--every", type=int, default=1, help="draw every n-th glyph (default 1)")
+    pl.add_argument("--field", help="colour markers by a field of a run step instead of glyphs: pressure, stress (von Mises), "
+                    "v (magnitude), energy, plastic_strain, temperature, damage, ...")
+    hi = sub.add_parser("history", help="plot a run's history.csv (energies, momentum, peak pressure)")
+    hi.add_argument("outdir")
+    hi.add_argument("--png", required=True)
     return p
 
 
@@ -67,11 +77,27 @@ def main(argv=None):
     args = _parser().parse_args(ours)
     from .errors import DeckError
     try:
+        if args.cmd == "history":
+            from .post import plot_history
+            plot_history(args.outdir, args.png)
+            print(f"wrote {args.png}")
+            return 0
+        if args.cmd == "plot" and args.field:
+            from .post import plot_field
+            plot_field(args.markers, args.png, args.field, bodies=args.bodies.split(",") if args.bodies else None, zoom=args.zoom)
+            print(f"wrote {args.png}")
+            return 0
         if args.cmd == "plot":
             from .post import plot_markers
             plot_markers(args.markers, args.png, axis=args.axis, bodies=args.bodies.split(",") if args.bodies else None,
                          zoom=args.zoom, color=args.color, every=args.every)
             print(f"wrote {args.png}")
+            return 0
+        if args.cmd == "verify":
+            import petsc4py
+            petsc4py.init([sys.argv[0]] + petsc)
+            from .verify import main as verify
+            verify(args.output, args.levels)
             return 0
         from .deck import load
         scene, text = load(args.deck)

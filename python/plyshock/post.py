@@ -16,7 +16,89 @@ def read_markers(path):
         d["body_names"] = [s.decode() if isinstance(s, bytes) else str(s) for s in g.attrs["body_names"]]
         d["material_names"] = [s.decode() if isinstance(s, bytes) else str(s) for s in g.attrs["material_names"]]
         d["attrs"] = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+        if "time" in d["attrs"]:
+            d["attrs"]["time"] = float(np.asarray(d["attrs"]["time"]).reshape(-1)[0])
     return d
+
+
+def marker_scalar(d, field):
+    """A scalar per marker from a dataset: vectors by magnitude, stress by von Mises."""
+    if field not in d:
+        names = sorted(k for k, v in d.items() if isinstance(v, np.ndarray) and v.ndim >= 1 and len(v) == len(d["x"]))
+        raise SystemExit(f"plyshock plot: no field {field!r} in the file; it has {', '.join(names)}")
+    a = np.asarray(d[field], dtype=float)
+    if field == "stress":
+        s = a - np.einsum("nii->n", a)[:, None, None] / 3 * np.eye(3)
+        return np.sqrt(1.5 * np.einsum("nij,nij->n", s, s))
+    if a.ndim == 2:
+        return np.linalg.norm(a, axis=1)
+    return a
+
+
+def plot_field(path, png, field, bodies=None, zoom=None, window=(1600, 1100)):
+    """Markers of a run step coloured by any field (stress: von Mises; vectors: magnitude)."""
+    import pyvista as pv
+    pv.OFF_SCREEN = True
+    d = read_markers(path)
+    x = d["x"]
+    dim = x.shape[1]
+    X = np.zeros((len(x), 3))
+    X[:, :dim] = x
+    keep = np.ones(len(x), bool)
+    if bodies:
+        keep &= np.isin(d["body"], [d["body_names"].index(b) for b in bodies])
+    if zoom:
+        lo, hi = np.array(zoom[:dim]), np.array(zoom[dim:])
+        keep &= np.all((x >= lo) & (x <= hi), axis=1)
+    val = marker_scalar(d, field)
+    pts = pv.PolyData(X[keep])
+    label = {"stress": "von Mises stress (Pa)", "v": "|v| (m/s)", "pressure": "pressure (Pa)", "energy": "energy (J/kg)",
+             "temperature": "temperature (K)"}.get(field, field)
+    pts.point_data[label] = val[keep]
+    p = pv.Plotter(off_screen=True, window_size=window)
+    p.set_background("white")
+    p.add_mesh(pts, scalars=label, cmap="viridis", point_size=5, render_points_as_spheres=True,
+               scalar_bar_args={"title": label, "color": "black"})
+    t = d["attrs"].get("time", 0.0)
+    p.add_text(f"{path.split('/')[-1]}: t = {float(t):.4e} s, {keep.sum()} markers", font_size=10, color="black")
+    if dim == 2:
+        p.view_xy()
+    else:
+        c = X[keep].mean(axis=0)
+        p.camera_position = [tuple(c + np.array([1.0, 0.75, 0.6])), tuple(c), (0, 0, 1)]
+        p.reset_camera()
+    p.screenshot(png)
+    p.close()
+    return png
+
+
+def plot_history(outdir, png):
+    """Energies, momentum and peak pressure of a run against time (history.csv)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    H = np.genfromtxt(f"{outdir}/history.csv", delimiter=",", names=True)
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
+    t = H["time"] * 1e6
+    for k in ("kinetic", "internal", "lost_energy", "total"):
+        ax[0].plot(t, H[k], label=k)
+    ax[0].set_ylabel("energy (J; J/m in 2D)")
+    for k in ("px", "py", "pz"):
+        if k in H.dtype.names:
+            ax[1].plot(t, H[k], label=k)
+    ax[1].set_ylabel("momentum (kg m/s)")
+    ax[2].plot(t, H["max_pressure"] / 1e9)
+    ax[2].set_ylabel("max pressure (GPa)")
+    for a in ax:
+        a.set_xlabel("time (us)")
+        a.grid(alpha=0.3)
+        if a.get_legend_handles_labels()[0]:
+            a.legend()
+    drift = (H["total"][-1] - H["total"][0]) / H["total"][0] if H["total"][0] else 0.0
+    fig.suptitle(f"{outdir}: {int(H['step'][-1])} steps, energy drift {100 * drift:.2f}%")
+    fig.tight_layout()
+    fig.savefig(png, dpi=100)
+    return png
 
 
 def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1, window=(1600, 1100)):
