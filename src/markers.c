@@ -85,6 +85,23 @@ PetscErrorCode PSMarkersRegisterFields(const PSScene *scene, DM sw, PetscInt *by
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The fields a scene registers, in registration order (for checkpoints). */
+PetscErrorCode PSMarkersFieldList(const PSScene *scene, PetscInt *n, const char *names[], PetscInt bs[], PetscDataType types[])
+{
+  size_t f;
+
+  PetscFunctionBeginUser;
+  *n = 0;
+  for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
+    if (!FieldNeeded(scene, PSFields[f].name)) continue;
+    names[*n] = PSFields[f].name;
+    bs[*n]    = BlockSize(PSFields[f].bs, scene->dim);
+    types[*n] = PSFields[f].type;
+    (*n)++;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Bytes per marker: every registered field, the swarm's own fields included.
    With sw == NULL, what the scene would register (for `plyshock check`). */
 PetscErrorCode PSMarkersBytes(const PSScene *scene, DM sw, PetscInt *bytes)

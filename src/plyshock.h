@@ -119,6 +119,8 @@ PETSC_EXTERN PetscErrorCode PSInsertMarkers(const PSScene *, DM da, DM sw, PSIns
 /* markers (markers.c) */
 PETSC_EXTERN PetscErrorCode PSMarkersRegisterFields(const PSScene *, DM sw, PetscInt *bytes_per_marker);
 PETSC_EXTERN PetscErrorCode PSMarkersBytes(const PSScene *, DM sw, PetscInt *bytes);
+PETSC_EXTERN PetscErrorCode PSMarkersFieldList(const PSScene *, PetscInt *n, const char *names[], PetscInt bs[], PetscDataType types[]);
+#define PS_MAX_FIELDS 32
 PETSC_EXTERN PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3]);
 PETSC_EXTERN PetscInt       PSStressComponents(PetscInt dim);
 

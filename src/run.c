@@ -9,6 +9,7 @@
                             internal, total (= kinetic + internal + lost_energy),
                             lost_mass, lost_energy, max_pressure
   OUTDIR/bodies.csv         time, body, mass, px, py[, pz], kinetic, vx, vy[, vz]
+  OUTDIR/checkpoint.h5      the end state, to continue with --restart (checkpoint.c)
 */
 #include <petscviewerhdf5.h>
 #include <petsctime.h>
@@ -145,7 +146,7 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
     PetscCall(PetscFOpen(PETSC_COMM_SELF, fn, "w", &io.bodies));
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, io.bodies, "time,body,mass,px,py%s,kinetic,vx,vy%s\n", dim == 3 ? ",pz" : "", dim == 3 ? ",vz" : ""));
   }
-  PetscCall(PSSolverMaxSpeed(S));
+  if (S->smax == 0.0) PetscCall(PSSolverMaxSpeed(S)); /* fresh start; a restart brings its own */
   /* the initial state: grid fields are empty until the first step */
   PetscCall(VecZeroEntries(S->G));
   PetscCall(VecZeroEntries(S->H));
@@ -175,6 +176,8 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
     PetscCall(Output(S, &io));
     PetscCall(History(S, &io));
   }
+  PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/checkpoint.h5", outdir));
+  PetscCall(PSSolverCheckpoint(S, fn));
   PetscCall(PetscTime(&now));
   PetscCall(PetscPrintf(comm, "done: %" PetscInt_FMT " steps to t = %.6e s in %.2f s wall, %" PetscInt_FMT " outputs in %s\n", S->step - step0, (double)S->t, (double)(now - w0), io.index, outdir));
   if (!rank) {

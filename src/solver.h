@@ -121,6 +121,8 @@ PETSC_EXTERN PetscErrorCode PSSolverStep(PSSolver *, PetscReal t_stop);
 PETSC_EXTERN PetscErrorCode PSSolverMigrate(PSSolver *);
 PETSC_EXTERN PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *);
 PETSC_EXTERN PetscErrorCode PSSolverRun(PSSolver *, const char outdir[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
+PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]);
+PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSMaterialInit(PSMaterial *, const char eos[], const char strength[], const char failure[]);
 
 #endif

@@ -114,6 +114,9 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *)
     PetscErrorCode PSSolverRun(PSSolver *, const char *, PetscInt, const char **, const char **, const char **, const char **)
     PetscErrorCode PSMaterialInit(PSMaterial *, const char *, const char *, const char *)
+    PetscErrorCode PSSolverCheckpoint(PSSolver *, const char *)
+    PetscErrorCode PSSolverRestart(PSSolver *, const char *)
+    PetscErrorCode PSMarkersRegisterFields(const PSScene *, PetscDM, PetscInt *)
 
 KIND = {"laminate": PS_BODY_LAMINATE, "box": PS_BODY_BOX, "sphere": PS_BODY_SPHERE, "cylinder": PS_BODY_CYLINDER}
 
@@ -257,6 +260,11 @@ cdef class CScene:
         CHK(PSCellOwnership(da.dm, cs, ce))
         return [cs[i] for i in range(3)], [ce[i] for i in range(3)]
 
+    def register_fields(self, DM sw):
+        """Register the scene's marker fields on an empty swarm (a restart fills them)."""
+        cdef PetscInt nb = 0
+        CHK(PSMarkersRegisterFields(&self.s, sw.dm, &nb))
+
     def insert(self, DM da, DM sw):
         cdef PSInsertStats st
         CHK(PSInsertMarkers(&self.s, da.dm, sw.dm, &st))
@@ -360,6 +368,12 @@ cdef class Solver:
         if self.S.step == 0 and self.S.dt == 0:
             CHK(PSSolverMaxSpeed(self.S))
         CHK(PSSolverStep(self.S, self.r.t_end if t_stop is None else t_stop))
+
+    def checkpoint(self, str filename):
+        CHK(PSSolverCheckpoint(self.S, filename.encode()))
+
+    def restart(self, str filename):
+        CHK(PSSolverRestart(self.S, filename.encode()))
 
     def totals(self):
         cdef PSTotals T

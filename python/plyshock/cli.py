@@ -40,6 +40,7 @@ def _parser():
     r = sub.add_parser("run", help="insert a scene and run it to run.t_end (explicit MPM); -run_<key> overrides the deck's run section")
     r.add_argument("deck")
     r.add_argument("-o", "--output", required=True, help="output directory")
+    r.add_argument("--restart", help="continue from a checkpoint.h5 written by an earlier run of the same deck")
     v = sub.add_parser("verify", help="error against run time: plate impact and elastic wave, every shape function, finer grids")
     v.add_argument("-o", "--output", default="out/verify", help="output directory (verify.csv, verify.png)")
     v.add_argument("--levels", type=int, default=3, help="grid levels from 100 um, halving (default 3)")
@@ -106,7 +107,7 @@ def main(argv=None):
         if args.cmd == "check":
             return _check(scene)
         if args.cmd == "run":
-            return _run(scene, text, args.output)
+            return _run(scene, text, args.output, args.restart)
         return _init(scene, text, args.output, args.png, args.axis)
     except DeckError as e:
         if _rank() == 0:
@@ -157,11 +158,11 @@ def run_scene(scene, output, png=None, petsc_args=(), axis=1, zoom=None):
         return 2
 
 
-def _run(scene, text, outdir):
+def _run(scene, text, outdir, restart=None):
     from petsc4py import PETSc
     from . import core
-    m = core.initialize(scene)
-    S = core.make_solver(m)      # material and run errors before any step
+    m = core.initialize(scene, restart=bool(restart))
+    S = core.make_solver(m, restart)      # material and run errors before any step
     _print0(f"running {m.stats['markers']} markers on {PETSc.COMM_WORLD.getSize()} rank(s), {m.bytes_per_marker} bytes per marker; "
             f"{S.run_params}")
     core.run(m, outdir, text, S)

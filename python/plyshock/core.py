@@ -124,8 +124,9 @@ class Markers:
     clipped: dict
 
 
-def initialize(scene, cs=None, comm=None):
-    """DMDA grid + DMSwarm markers with exact insertion, on any rank count."""
+def initialize(scene, cs=None, comm=None, restart=False):
+    """DMDA grid + DMSwarm markers with exact insertion, on any rank count
+    (restart=True: an empty swarm with the scene's fields, for Solver.restart)."""
     from petsc4py import PETSc
     from . import _core
     if cs is None:
@@ -144,8 +145,13 @@ def initialize(scene, cs=None, comm=None):
     sw = PETSc.DMSwarm().create(comm=comm)
     sw.setDimension(dim)
     sw.setType(PETSc.DMSwarm.Type.BASIC)
-    stats = cs.insert(da, sw)
     mpi = comm.tompi4py()
+    if restart:
+        # fields only: the solver fills them from the checkpoint (restart())
+        cs.register_fields(sw)
+        m = Markers(scene, cs, da, sw, {}, 0, clipped)
+        return m
+    stats = cs.insert(da, sw)
     stats = {k: mpi.allreduce(v) for k, v in stats.items()}
     return Markers(scene, cs, da, sw, stats, cs.marker_bytes(sw), clipped)
 
@@ -282,8 +288,9 @@ def run_to_c(run):
                 history_interval=run.history_interval, progress_interval=run.progress_interval, dt_max=run.dt_max)
 
 
-def make_solver(m):
-    """The C solver on initialised markers m (from initialize); reads -run_<key> options."""
+def make_solver(m, restart=None):
+    """The C solver on initialised markers m (from initialize); reads -run_<key> options.
+    restart: a checkpoint.h5 to continue from (m from initialize(restart=True))."""
     from . import _core
     scene = m.scene
     if scene.run is None:
@@ -291,7 +298,14 @@ def make_solver(m):
     mats = [material_to_c(x, f"materials[{i}]") for i, x in enumerate(scene.materials)]
     faces = ["x-", "x+", "y-", "y+", "z-", "z+"][: 2 * scene.dimension]
     bc = [BC_CODE[scene.grid.boundary[f]] for f in faces] + [0] * (6 - len(faces))
-    return _core.Solver(m.cs, m.da, m.sw, run_to_c(scene.run), mats, bc)
+    S = _core.Solver(m.cs, m.da, m.sw, run_to_c(scene.run), mats, bc)
+    if restart:
+        if not os.path.exists(restart):
+            raise DeckError("--restart", f"checkpoint {restart} does not exist")
+        S.restart(restart)
+        m.stats = {"markers": m.sw.getComm().tompi4py().allreduce(m.sw.getLocalSize())}
+        m.bytes_per_marker = m.cs.marker_bytes(m.sw)
+    return S
 
 
 def run(m, outdir, deck_text, solver=None):
