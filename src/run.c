@@ -9,6 +9,8 @@
                             internal, total (= kinetic + internal + lost_energy),
                             lost_mass, lost_energy, max_pressure
   OUTDIR/bodies.csv         time, body, mass, px, py[, pz], kinetic, vx, vy[, vz]
+  OUTDIR/gauges.csv         time, gauge, marker id, present, position, velocity, pressure,
+                            Cauchy stress (Pa, tension positive) of the marker each gauge follows
   OUTDIR/checkpoint.h5      the end state, to continue with --restart (checkpoint.c)
 */
 #include <petscviewerhdf5.h>
@@ -19,7 +21,7 @@ typedef struct {
   const char        *outdir;
   PetscInt           nattr;
   const char *const *attr_names, *const *attr_values, *const *body_names, *const *material_names;
-  FILE              *hist, *bodies;
+  FILE              *hist, *bodies, *gauges;
   DM                 da1;  /* dof-1 grid for output */
   Vec                out1;
   PetscInt           index;  /* next output number */
@@ -113,6 +115,46 @@ static PetscErrorCode History(PSSolver *S, PSRunIO *io)
       PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->bodies, "\n"));
     }
   PetscCall(PetscFree2(loc, glob));
+  /* gauges: the rank holding each gauge's marker contributes, the rest add zeros */
+  if (S->ngauge) {
+    const PetscInt ns = PSStressComponents(dim), nv = 1 + 2 * dim + 1 + ns;
+    PetscReal     *gl, *gg, *sg, *pr;
+    PetscInt64    *id;
+    PetscInt       k;
+    PetscCall(PetscCalloc2(nv * S->ngauge, &gl, nv * S->ngauge, &gg));
+    PetscCall(DMSwarmGetLocalSize(S->sw, &n));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_ID, NULL, NULL, (void **)&id));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
+    for (p = 0; p < n; p++)
+      for (k = 0; k < S->ngauge; k++) {
+        PetscReal *r = &gl[nv * k];
+        if (id[p] != S->gauge_id[k]) continue;
+        r[0] = 1.0;
+        for (d = 0; d < dim; d++) {
+          r[1 + d]       = x[p * dim + d];
+          r[1 + dim + d] = v[p * dim + d];
+        }
+        r[1 + 2 * dim] = pr[p];
+        for (d = 0; d < ns; d++) r[2 + 2 * dim + d] = sg[p * ns + d];
+      }
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_ID, NULL, NULL, (void **)&id));
+    PetscCallMPI(MPI_Allreduce(gl, gg, nv * S->ngauge, MPIU_REAL, MPI_SUM, comm));
+    if (!rank && io->gauges)
+      for (k = 0; k < S->ngauge; k++) {
+        const PetscReal *r = &gg[nv * k];
+        PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->gauges, "%.10e,%" PetscInt_FMT ",%lld,%d", (double)S->t, k, (long long)S->gauge_id[k], r[0] > 0.5 ? 1 : 0));
+        for (d = 1; d < nv; d++) PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->gauges, ",%.10e", (double)r[d]));
+        PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->gauges, "\n"));
+      }
+    PetscCall(PetscFree2(gl, gg));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -145,6 +187,13 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
     PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/bodies.csv", outdir));
     PetscCall(PetscFOpen(PETSC_COMM_SELF, fn, "w", &io.bodies));
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, io.bodies, "time,body,mass,px,py%s,kinetic,vx,vy%s\n", dim == 3 ? ",pz" : "", dim == 3 ? ",vz" : ""));
+    if (S->ngauge) {
+      PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/gauges.csv", outdir));
+      PetscCall(PetscFOpen(PETSC_COMM_SELF, fn, "w", &io.gauges));
+      /* present = 0 once the gauge's marker has left the domain */
+      PetscCall(PetscFPrintf(PETSC_COMM_SELF, io.gauges, "time,gauge,id,present,x,y%s,vx,vy%s,pressure,%s\n", dim == 3 ? ",z" : "", dim == 3 ? ",vz" : "",
+                             dim == 3 ? "sxx,syy,szz,syz,sxz,sxy" : "sxx,syy,szz,sxy"));
+    }
   }
   if (S->smax == 0.0) PetscCall(PSSolverMaxSpeed(S)); /* fresh start; a restart brings its own */
   /* the initial state: grid fields are empty until the first step */
@@ -183,6 +232,7 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
   if (!rank) {
     PetscCall(PetscFClose(PETSC_COMM_SELF, io.hist));
     PetscCall(PetscFClose(PETSC_COMM_SELF, io.bodies));
+    if (io.gauges) PetscCall(PetscFClose(PETSC_COMM_SELF, io.gauges));
   }
   PetscCall(VecDestroy(&io.out1));
   PetscCall(DMDestroy(&io.da1));

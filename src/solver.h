@@ -110,6 +110,8 @@ typedef struct {
   struct PSShape_ *shape;        /* scratch: each marker's shape functions at x_p^n */
   PetscInt       ncache;         /* room in the scratch arrays (markers) */
   PSTotals       lost_local;     /* this rank's booked removals, cumulative */
+  PetscInt       ngauge;         /* gauges: each follows one marker (its id) */
+  PetscInt64    *gauge_id;
 } PSSolver;
 
 PETSC_EXTERN PetscErrorCode PSSolverCreate(const PSScene *, DM da, DM sw, const PSRunParams *, const PSMaterial *, const PetscInt bc[6], PSSolver **);
@@ -121,6 +123,7 @@ PETSC_EXTERN PetscErrorCode PSSolverStep(PSSolver *, PetscReal t_stop);
 PETSC_EXTERN PetscErrorCode PSSolverMigrate(PSSolver *);
 PETSC_EXTERN PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *);
 PETSC_EXTERN PetscErrorCode PSSolverRun(PSSolver *, const char outdir[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
+PETSC_EXTERN PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt n, const PetscInt64 ids[]);
 PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSMaterialInit(PSMaterial *, const char eos[], const char strength[], const char failure[]);

@@ -105,7 +105,19 @@ PetscErrorCode PSSolverDestroy(PSSolver **S)
   PetscCall(PetscFree((*S)->mat));
   PetscCall(PetscFree((*S)->dx));
   PetscCall(PetscFree((*S)->shape));
+  PetscCall(PetscFree((*S)->gauge_id));
   PetscCall(PetscFree(*S));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Gauges follow markers by id (chosen at t = 0 as the nearest to each point). */
+PetscErrorCode PSSolverSetGauges(PSSolver *S, PetscInt n, const PetscInt64 ids[])
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(S->gauge_id));
+  S->ngauge = n;
+  PetscCall(PetscMalloc1(PetscMax(n, 1), &S->gauge_id));
+  PetscCall(PetscArraycpy(S->gauge_id, ids, n));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -126,6 +126,7 @@ PLATE = {
     "bodies": [{"name": "flyer", "material": "steel", "box": {"lower": [0.001, 0], "upper": [0.003, 0.0003]}, "velocity": [800, 0]},
                {"name": "target", "material": "cu", "box": {"lower": [0.003, 0], "upper": [0.008, 0.0003]}}],
     "run": {"t_end": 2.0e-6, "output_interval": 1.0e-6, "history_interval": 5},
+    "gauges": [{"name": "flyer", "point": [0.002, 0.00015]}, {"name": "target", "point": [0.0035, 0.00015]}],
 }
 
 
@@ -144,6 +145,12 @@ def test_one_and_two_ranks_give_the_same_history(tmpdir_mpi):
         # momentum components on the scale of the momentum (py is round-off noise around 0)
         scale = np.abs(a["px"]).max() if k in ("px", "py") else np.abs(a[k]).max() + 1e-300
         assert np.max(np.abs(a[k] - b[k])) <= 1e-10 * scale, k
+    # gauges follow the same markers on any rank count and record the shock arriving
+    g1, g2 = (np.genfromtxt(os.path.join(tmpdir_mpi, f"o{k}", "gauges.csv"), delimiter=",", names=True) for k in (1, 2))
+    assert np.array_equal(g1["id"], g2["id"]) and np.all(g1["present"] == 1)
+    assert np.allclose(g1["vx"], g2["vx"], rtol=1e-9, atol=1e-9)
+    tgt = g2[g2["gauge"] == 1]
+    assert tgt["vx"][0] == 0.0 and tgt["vx"].max() > 300.0 and tgt["pressure"].max() > 5e9
     # Johnson-Cook materials write plastic strain and temperature; the series opens in ParaView
     with h5py.File(os.path.join(tmpdir_mpi, "o2", "markers_00001.h5"), "r") as f:
         assert "plastic_strain" in f["markers"] and "temperature" in f["markers"]

@@ -115,6 +115,7 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverRun(PSSolver *, const char *, PetscInt, const char **, const char **, const char **, const char **)
     PetscErrorCode PSMaterialInit(PSMaterial *, const char *, const char *, const char *)
     PetscErrorCode PSSolverCheckpoint(PSSolver *, const char *)
+    PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt, const PetscInt64 *)
     PetscErrorCode PSSolverRestart(PSSolver *, const char *)
     PetscErrorCode PSMarkersRegisterFields(const PSScene *, PetscDM, PetscInt *)
 
@@ -368,6 +369,11 @@ cdef class Solver:
         if self.S.step == 0 and self.S.dt == 0:
             CHK(PSSolverMaxSpeed(self.S))
         CHK(PSSolverStep(self.S, self.r.t_end if t_stop is None else t_stop))
+
+    def set_gauges(self, ids):
+        cdef PetscInt64[::1] a = np.ascontiguousarray(ids, dtype=np.int64)
+        if len(a):
+            CHK(PSSolverSetGauges(self.S, len(a), &a[0]))
 
     def checkpoint(self, str filename):
         CHK(PSSolverCheckpoint(self.S, filename.encode()))

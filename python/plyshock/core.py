@@ -299,6 +299,8 @@ def make_solver(m, restart=None):
     faces = ["x-", "x+", "y-", "y+", "z-", "z+"][: 2 * scene.dimension]
     bc = [BC_CODE[scene.grid.boundary[f]] for f in faces] + [0] * (6 - len(faces))
     S = _core.Solver(m.cs, m.da, m.sw, run_to_c(scene.run), mats, bc)
+    if scene.gauges and not restart:
+        S.set_gauges(gauge_markers(m, [g["point"] for g in scene.gauges]))
     if restart:
         if not os.path.exists(restart):
             raise DeckError("--restart", f"checkpoint {restart} does not exist")
@@ -306,6 +308,20 @@ def make_solver(m, restart=None):
         m.stats = {"markers": m.sw.getComm().tompi4py().allreduce(m.sw.getLocalSize())}
         m.bytes_per_marker = m.cs.marker_bytes(m.sw)
     return S
+
+
+def gauge_markers(m, points):
+    """Id of the marker nearest to each point (ties: the smaller id), over all ranks."""
+    from mpi4py import MPI
+    f = local_fields(m, ["x", "id"])
+    comm = m.sw.getComm().tompi4py()
+    ids = []
+    for pt in points:
+        d2 = np.sum((f["x"] - np.asarray(pt)) ** 2, axis=1) if len(f["x"]) else np.array([np.inf])
+        k = int(np.argmin(d2))
+        best = (float(d2[k]), int(f["id"][k, 0]) if len(f["x"]) else -1)
+        ids.append(comm.allreduce(best, op=MPI.MIN)[1])
+    return ids
 
 
 def run(m, outdir, deck_text, solver=None):

@@ -300,8 +300,9 @@ class Scene:
     materials: List[Material]
     bodies: List[Body]
     run: Optional[Run] = None
+    gauges: Optional[list] = None        # [{name, point: [x, y(, z)]}]: each follows the marker nearest at t = 0
 
-    KEYS = ("dimension", "grid", "materials", "bodies", "run")
+    KEYS = ("dimension", "grid", "materials", "bodies", "run", "gauges")
 
     # ------------------------------------------------------------ checks --
     def validate(self):
@@ -328,6 +329,18 @@ class Scene:
             bnames[b.name] = i
         if self.run is not None:
             self.run.validate()
+        if self.gauges is not None:
+            if not isinstance(self.gauges, list):
+                raise DeckError("gauges", "must be a list of {name, point}")
+            for i, g in enumerate(self.gauges):
+                check_keys(g, ("name", "point"), f"gauges[{i}]")
+                if "point" not in g:
+                    raise DeckError(f"gauges[{i}].point", f"is required: {dim} coordinates (m)")
+                g["point"] = vector(g["point"], dim, f"gauges[{i}].point")
+                g.setdefault("name", f"gauge{i}")
+                for a in range(dim):
+                    if not self.grid.lower[a] <= g["point"][a] <= self.grid.upper[a]:
+                        raise DeckError(f"gauges[{i}].point[{a}]", f"{g['point'][a]} is outside the grid [{self.grid.lower[a]}, {self.grid.upper[a]}]")
         return self
 
     def _material_id(self, name, path, names):
@@ -424,7 +437,7 @@ class Scene:
     @staticmethod
     def from_dict(d):
         """A scene from a parsed deck (unknown keys are errors)."""
-        check_keys(d, Scene.KEYS + ("gauges",), "")
+        check_keys(d, Scene.KEYS, "")
         for k in ("dimension", "grid", "materials", "bodies"):
             if k not in d:
                 raise DeckError(k, "is required")
@@ -470,7 +483,7 @@ class Scene:
             if "t_end" not in d["run"]:
                 raise DeckError("run.t_end", "is required (s, > 0)")
             run = Run(**d["run"])
-        return Scene(d["dimension"], grid, mats, bodies, run)
+        return Scene(d["dimension"], grid, mats, bodies, run, d.get("gauges"))
 
 
 def _laminate_from_dict(d, path):
