@@ -318,7 +318,7 @@ PetscErrorCode PSInsertMarkers(const PSScene *scene, DM da, DM sw, PSInsertStats
   /* solver state at rest: F = I, V0 = V, no stress, no energy, T = T0 */
   {
     const PetscInt ns = PSStressComponents(dim);
-    PetscReal     *F, *V0, *sig, *sdev, *pr, *q, *e, *T = NULL, *ep = NULL, *D = NULL;
+    PetscReal     *F, *V0, *sig, *sdev, *pr, *q, *e, *T = NULL, *ep = NULL, *D = NULL, *Sm = NULL;
     PetscCall(DMSwarmGetField(sw, PS_FIELD_F, NULL, NULL, (void **)&F));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sig));
@@ -328,7 +328,8 @@ PetscErrorCode PSInsertMarkers(const PSScene *scene, DM da, DM sw, PSInsertStats
     PetscCall(DMSwarmGetField(sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&e));
     if (scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&T));
     if (scene->need_plastic) PetscCall(DMSwarmGetField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&ep));
-    if (scene->need_damage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&D));
+    if (scene->ndamage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&D));
+    if (scene->anisotropic) PetscCall(DMSwarmGetField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&Sm));
     for (p = 0; p < n; p++) {
       for (d = 0; d < dim * dim; d++) F[p * dim * dim + d] = (d % (dim + 1) == 0) ? 1.0 : 0.0;
       for (d = 0; d < ns; d++) sig[p * ns + d] = sdev[p * ns + d] = 0.0;
@@ -336,8 +337,10 @@ PetscErrorCode PSInsertMarkers(const PSScene *scene, DM da, DM sw, PSInsertStats
       pr[p] = q[p] = e[p] = 0.0;
       if (T) T[p] = scene->T0[L.mat[p]];
       if (ep) ep[p] = 0.0;
-      if (D) D[p] = 0.0;
+      for (d = 0; D && d < scene->ndamage; d++) D[p * scene->ndamage + d] = 0.0;
+      for (d = 0; Sm && d < 6; d++) Sm[6 * p + d] = 0.0;
     }
+    if (Sm) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&Sm));
     if (D) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&D));
     if (ep) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&ep));
     if (T) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&T));

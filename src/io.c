@@ -12,7 +12,9 @@
     /markers/body, /markers/ply (-1 outside laminates), /markers/material (int32)
     /markers/stress (N x 3 x 3 Cauchy, Pa, tension positive), /markers/pressure (Pa),
     /markers/energy (J/kg), and when a material uses them /markers/plastic_strain,
-    /markers/temperature (K), /markers/damage; root attribute time (s)
+    /markers/temperature (K), /markers/damage (N: Johnson-Cook; N x 4 with ply
+    failure: d_ft, d_fc, d_mt, d_mc); root attribute time (s).  axis1..3 are the
+    current material axes (they turn with the material).
     attributes: /markers@body_names, /markers@material_names; root: deck,
     version, units, and whatever else the caller passes (petsc options, ranks).
 
@@ -25,11 +27,11 @@ static PetscLogEvent PS_EVENT_Write;
 
 #define H5CHK(e, what) PetscCheck((e) >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "HDF5 call %s failed", what)
 
-/* Write one dataset: global shape (N, bs), or (N) when bs == 0. */
-static PetscErrorCode WriteSlab(hid_t group, const char *name, hid_t type, const void *buf, PetscInt n, PetscInt bs, PetscInt64 off, PetscInt64 N)
+/* Write one dataset: global shape (N), (N, b0) or (N, b0, b1) as b0, b1 are 0 or not. */
+static PetscErrorCode WriteSlabN(hid_t group, const char *name, hid_t type, const void *buf, PetscInt n, PetscInt b0, PetscInt b1, PetscInt64 off, PetscInt64 N)
 {
-  hsize_t gdims[2] = {(hsize_t)N, (hsize_t)bs}, ldims[2] = {(hsize_t)n, (hsize_t)bs}, start[2] = {(hsize_t)off, 0};
-  int     rank     = bs ? 2 : 1;
+  hsize_t gdims[3] = {(hsize_t)N, (hsize_t)b0, (hsize_t)b1}, ldims[3] = {(hsize_t)n, (hsize_t)b0, (hsize_t)b1}, start[3] = {(hsize_t)off, 0, 0};
+  int     rank     = b1 ? 3 : b0 ? 2 : 1;
   hid_t   fs, ms, ds, xfer;
 
   PetscFunctionBeginUser;
@@ -45,11 +47,22 @@ static PetscErrorCode WriteSlab(hid_t group, const char *name, hid_t type, const
   }
   xfer = H5Pcreate(H5P_DATASET_XFER);
   H5CHK(H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio");
-  H5CHK(H5Dwrite(ds, type, ms, fs, xfer, buf), "H5Dwrite");
+  {
+    /* a rank without markers still joins the collective write; HDF5 refuses a NULL buffer */
+    static const double none = 0.0;
+    if (N > 0) H5CHK(H5Dwrite(ds, type, ms, fs, xfer, buf ? buf : (const void *)&none), "H5Dwrite"); /* N = 0: every marker has left */
+  }
   H5Pclose(xfer);
   H5Sclose(ms);
   H5Dclose(ds);
   H5Sclose(fs);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode WriteSlab(hid_t group, const char *name, hid_t type, const void *buf, PetscInt n, PetscInt bs, PetscInt64 off, PetscInt64 N)
+{
+  PetscFunctionBeginUser;
+  PetscCall(WriteSlabN(group, name, type, buf, n, bs, 0, off, N));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -173,7 +186,6 @@ PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[]
   {
     const PetscInt ns = PSStressComponents(dim);
     PetscReal     *sg, *full, *fld;
-    hsize_t        gd[3] = {(hsize_t)N, 3, 3}, ld[3] = {(hsize_t)n, 3, 3}, st[3] = {(hsize_t)off, 0, 0};
     const char    *scal[][2] = {
       {PS_FIELD_PRESSURE, "pressure"},
       {PS_FIELD_ENERGY, "energy"},
@@ -181,8 +193,8 @@ PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[]
       {PS_FIELD_TEMP, "temperature"},
       {PS_FIELD_DAMAGE, "damage"}
     };
-    const PetscBool have[] = {PETSC_TRUE, PETSC_TRUE, scene->need_plastic, scene->need_temperature, scene->need_damage};
-    hid_t           fs, ms, ds, xfer;
+    const PetscBool have[] = {PETSC_TRUE, PETSC_TRUE, scene->need_plastic, scene->need_temperature, scene->ndamage > 0};
+    const PetscInt  bs[]   = {0, 0, 0, 0, scene->ndamage > 1 ? scene->ndamage : 0}; /* damage: N, or N x 4 for plies */
     PetscCall(PetscMalloc1(9 * PetscMax(n, 1), &full));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
     for (i = 0; i < n; i++) {
@@ -201,27 +213,12 @@ PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[]
       }
     }
     PetscCall(DMSwarmRestoreField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
-    fs = H5Screate_simple(3, gd, NULL);
-    ds = H5Dcreate2(grp, "stress", H5T_NATIVE_DOUBLE, fs, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    H5CHK(ds, "stress");
-    ms = H5Screate_simple(3, ld, NULL);
-    if (n > 0) H5CHK(H5Sselect_hyperslab(fs, H5S_SELECT_SET, st, NULL, ld, NULL), "H5Sselect_hyperslab");
-    else {
-      H5CHK(H5Sselect_none(fs), "H5Sselect_none");
-      H5CHK(H5Sselect_none(ms), "H5Sselect_none");
-    }
-    xfer = H5Pcreate(H5P_DATASET_XFER);
-    H5CHK(H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio");
-    H5CHK(H5Dwrite(ds, H5T_NATIVE_DOUBLE, ms, fs, xfer, full), "H5Dwrite");
-    H5Pclose(xfer);
-    H5Sclose(ms);
-    H5Dclose(ds);
-    H5Sclose(fs);
+    PetscCall(WriteSlabN(grp, "stress", H5T_NATIVE_DOUBLE, full, n, 3, 3, off, N));
     PetscCall(PetscFree(full));
     for (a = 0; a < 5; a++) {
       if (!have[a]) continue;
       PetscCall(DMSwarmGetField(sw, scal[a][0], NULL, NULL, (void **)&fld));
-      PetscCall(WriteSlab(grp, scal[a][1], H5T_NATIVE_DOUBLE, fld, n, 0, off, N));
+      PetscCall(WriteSlab(grp, scal[a][1], H5T_NATIVE_DOUBLE, fld, n, bs[a], off, N));
       PetscCall(DMSwarmRestoreField(sw, scal[a][0], NULL, NULL, (void **)&fld));
     }
   }

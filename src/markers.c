@@ -11,13 +11,14 @@
 
 typedef struct {
   const char   *name;
-  PetscInt      bs;    /* block size; -1 = dim, -2 = dim^2, -3 = stress components */
+  PetscInt      bs;    /* block size; -1 = dim, -2 = dim^2, -3 = stress components, -4 = damage components */
   PetscDataType type;
 } PSField;
 
-static PetscInt BlockSize(PetscInt bs, PetscInt dim)
+static PetscInt BlockSize(const PSScene *scene, PetscInt bs)
 {
-  return bs == -1 ? dim : bs == -2 ? dim * dim : bs == -3 ? PSStressComponents(dim) : bs;
+  const PetscInt dim = scene->dim;
+  return bs == -1 ? dim : bs == -2 ? dim * dim : bs == -3 ? PSStressComponents(dim) : bs == -4 ? scene->ndamage : bs;
 }
 
 PetscInt PSStressComponents(PetscInt dim)
@@ -32,7 +33,8 @@ static PetscBool FieldNeeded(const PSScene *scene, const char *name)
   if (!strcmp(name, PS_FIELD_AXES)) return scene->anisotropic;
   if (!strcmp(name, PS_FIELD_EPS_P)) return scene->need_plastic;
   if (!strcmp(name, PS_FIELD_TEMP)) return scene->need_temperature;
-  if (!strcmp(name, PS_FIELD_DAMAGE)) return scene->need_damage;
+  if (!strcmp(name, PS_FIELD_DAMAGE)) return scene->ndamage > 0;
+  if (!strcmp(name, PS_FIELD_SMAT)) return scene->anisotropic;
   if (!strcmp(name, PS_FIELD_PLY)) {
     for (b = 0; b < scene->nbody; b++)
       if (scene->bodies[b].kind == PS_BODY_LAMINATE) return PETSC_TRUE;
@@ -60,7 +62,8 @@ static const PSField PSFields[] = {
   {PS_FIELD_ENERGY,   1,  PETSC_REAL },
   {PS_FIELD_EPS_P,    1,  PETSC_REAL },
   {PS_FIELD_TEMP,     1,  PETSC_REAL },
-  {PS_FIELD_DAMAGE,   1,  PETSC_REAL },
+  {PS_FIELD_DAMAGE,   -4, PETSC_REAL },
+  {PS_FIELD_SMAT,     6,  PETSC_REAL },
 };
 
 /* Register the scene's fields on a fresh swarm. */
@@ -73,7 +76,7 @@ PetscErrorCode PSMarkersRegisterFields(const PSScene *scene, DM sw, PetscInt *by
   PetscCall(DMSwarmInitializeFieldRegister(sw));
   for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
     if (!FieldNeeded(scene, PSFields[f].name)) continue;
-    bs = BlockSize(PSFields[f].bs, scene->dim);
+    bs = BlockSize(scene, PSFields[f].bs);
     PetscCall(DMSwarmRegisterPetscDatatypeField(sw, PSFields[f].name, bs, PSFields[f].type));
   }
   PetscCall(DMSwarmFinalizeFieldRegister(sw));
@@ -95,7 +98,7 @@ PetscErrorCode PSMarkersFieldList(const PSScene *scene, PetscInt *n, const char 
   for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
     if (!FieldNeeded(scene, PSFields[f].name)) continue;
     names[*n] = PSFields[f].name;
-    bs[*n]    = BlockSize(PSFields[f].bs, scene->dim);
+    bs[*n]    = BlockSize(scene, PSFields[f].bs);
     types[*n] = PSFields[f].type;
     (*n)++;
   }
@@ -115,7 +118,7 @@ PetscErrorCode PSMarkersBytes(const PSScene *scene, DM sw, PetscInt *bytes)
   *bytes = 0;
   for (f = 0; f < sizeof(PSFields) / sizeof(PSFields[0]); f++) {
     if (!FieldNeeded(scene, PSFields[f].name)) continue;
-    bs = BlockSize(PSFields[f].bs, scene->dim);
+    bs = BlockSize(scene, PSFields[f].bs);
     PetscCall(PetscDataTypeGetSize(PSFields[f].type, &sz));
     *bytes += bs * (PetscInt)sz;
   }

@@ -20,20 +20,33 @@ PETSC_INTERN PetscErrorCode PSStrengthNone(const PSMaterial *, PetscReal, PetscR
 PETSC_INTERN PetscErrorCode PSStrengthElasticPlastic(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
 PETSC_INTERN PetscErrorCode PSStrengthJohnsonCook(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
 PETSC_INTERN PetscErrorCode PSFailureJohnsonCook(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
+PETSC_INTERN PetscErrorCode PSPlyFailureHashin(const PSMaterial *, const PetscReal[6], PetscReal[4]);
 
 /* One marker's stress update over a step (materials/update.c).  Returns
    J = det F_new in *J (the caller stops on J <= 0) and the marker's wave speed. */
-typedef struct {
+typedef struct PSMarkerState_ {
   PetscReal *F;     /* dim x dim, updated */
   PetscReal  V0;    /* m^3 */
   PetscReal *vol;   /* current volume, updated */
   PetscReal *sdev;  /* unrotated deviator, updated */
   PetscReal *sig;   /* Cauchy stress (no q), updated */
   PetscReal *p, *q, *e;
-  PetscReal *eps_p, *T, *D; /* NULL when not registered */
+  PetscReal *eps_p, *T, *D; /* NULL when not registered; D: damage (1 or 4 components) */
+  /* orthotropic plies */
+  const PetscReal *axes0; /* material axes at t = 0, rows a_1, a_2, a_3 */
+  PetscReal       *axes;  /* current axes a_k = R a_k^0, updated */
+  PetscReal       *smat;  /* stress in material axes less the volumetric part, Voigt (Pa), updated */
 } PSMarkerState;
 
 PETSC_INTERN PetscErrorCode PSMarkerUpdate(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *, PetscReal *J, PetscReal *c);
+PETSC_INTERN PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *, PetscReal *J, PetscReal *c);
+
+/* kinematics shared by the kernels (materials/update.c) */
+PETSC_INTERN PetscReal PSDeformationUpdate(PetscInt dim, const PetscReal L[3][3], PetscReal dt, const PetscReal *F, PetscReal Fn[3][3]);
+PETSC_INTERN void      PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3]);
+PETSC_INTERN void      PSStressPack(PetscInt dim, const PetscReal S[3][3], PetscReal *v);
+PETSC_INTERN PetscErrorCode PSMarkerCheckJ(PetscReal J, PetscInt64 id, PetscInt material, PetscInt step, PetscReal t);
+PETSC_INTERN PetscReal PSViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic);
 PETSC_INTERN PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *, PetscReal J, PetscReal e, PetscReal p, PetscReal *c);
 
 #endif

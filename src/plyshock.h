@@ -68,7 +68,7 @@ typedef struct {
   PetscBool  anisotropic;     /* some material needs material axes on its markers */
   PetscBool  need_plastic;    /* some material has a strength model: plastic strain field */
   PetscBool  need_temperature;/* some material uses temperature (Johnson-Cook): temperature field */
-  PetscBool  need_damage;     /* some material has a failure model: damage field */
+  PetscInt   ndamage;         /* damage components per marker: 0 none, 1 Johnson-Cook failure, 4 ply failure (FT, FC, MT, MC) */
   PetscReal *T0;              /* initial temperature per material (K) */
   PetscInt   nbody;
   PSBody    *bodies;
@@ -102,7 +102,8 @@ typedef struct {
 #define PS_FIELD_ENERGY   "energy"   /* specific internal energy e (J/kg) */
 #define PS_FIELD_EPS_P    "plastic_strain" /* equivalent plastic strain (-) */
 #define PS_FIELD_TEMP     "temperature"    /* K */
-#define PS_FIELD_DAMAGE   "damage"         /* Johnson-Cook damage D (-), failed at 1 */
+#define PS_FIELD_DAMAGE   "damage"         /* damage (-), failed at 1: Johnson-Cook D, or a ply's d_ft, d_fc, d_mt, d_mc */
+#define PS_FIELD_SMAT     "stress_material" /* ply stress in material axes less the volumetric part, Voigt 11,22,33,23,13,12 (Pa); anisotropic scenes */
 #define PS_PAD 1 /* grid nodes outside the domain on each side (shape functions reach one cell out) */
 
 /* geometry (geom.c): no PETSc objects are made */

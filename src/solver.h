@@ -45,6 +45,23 @@ typedef PetscErrorCode (*PSEOSFn)(const PSMaterial *, PetscReal J, PetscReal p_o
 typedef PetscErrorCode (*PSStrengthFn)(const PSMaterial *, PetscReal eps_p, PetscReal eps_dot, PetscReal T, PetscReal *Y);
 /* equivalent plastic strain to failure at triaxiality sigma_m/sigma_eq, rate, temperature */
 typedef PetscErrorCode (*PSFailureFn)(const PSMaterial *, PetscReal triax, PetscReal eps_dot, PetscReal T, PetscReal *eps_f);
+/* ply failure indices of the four modes (fiber tension, fiber compression, matrix
+   tension, matrix compression; a mode initiates at 1) from the stress in
+   material axes, Voigt 11,22,33,23,13,12 (Pa) */
+typedef PetscErrorCode (*PSPlyFailureFn)(const PSMaterial *, const PetscReal s[6], PetscReal F[4]);
+struct PSMarkerState_;
+/* one marker's constitutive update over a step (isotropic or orthotropic kernel) */
+typedef PetscErrorCode (*PSUpdateFn)(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, struct PSMarkerState_ *, PetscReal *J, PetscReal *c);
+
+/* Orthotropic ply data (material axes 1 = fiber, 2, 3), SI units. */
+typedef struct {
+  PetscReal C[36];   /* stiffness, Voigt 11,22,33,23,13,12 with engineering shear strains (Pa), row major */
+  PetscReal K_R;     /* Reuss bulk modulus 1 / sum_{i,j<=3} S_ij (Pa) */
+  PetscReal c2max;   /* largest eigenvalue of C in Mandel form / rho0: bounds every wave speed^2 (m^2/s^2) */
+  PetscReal X[6];    /* strengths Xt, Xc, Yt, Yc, S12, S23 (Pa) */
+  PetscReal Gc[4];   /* fracture energies of the four modes (J/m^2) */
+  PetscReal E[4];    /* modulus of each mode's softening law: E1, E1, E2, E2 (Pa) */
+} PSPly;
 
 /* Constitutive data of one material, SI units; filled from the deck. */
 struct PSMaterial_ {
@@ -63,6 +80,10 @@ struct PSMaterial_ {
   PSEOSFn      eos_fn;
   PSStrengthFn strength_fn;     /* NULL: no strength (elastic deviator if G > 0) */
   PSFailureFn  failure_fn;      /* NULL: no failure */
+  PetscBool    aniso;           /* orthotropic ply (materials/orthotropic.c) */
+  PSPly        ply;
+  PSPlyFailureFn ply_failure_fn; /* NULL: no ply failure */
+  PSUpdateFn   update_fn;       /* the kernel for this material, chosen by PSMaterialInit */
 };
 
 /* Run parameters (deck `run:` section; -run_<key> overrides). */
@@ -112,6 +133,8 @@ typedef struct {
   PSTotals       lost_local;     /* this rank's booked removals, cumulative */
   PetscInt       ngauge;         /* gauges: each follows one marker (its id) */
   PetscInt64    *gauge_id;
+  PetscInt       ndamage;        /* damage components per marker (scene) */
+  PetscBool      has_ply;        /* the scene has laminates: markers carry a ply id */
 } PSSolver;
 
 PETSC_EXTERN PetscErrorCode PSSolverCreate(const PSScene *, DM da, DM sw, const PSRunParams *, const PSMaterial *, const PetscInt bc[6], PSSolver **);
@@ -127,5 +150,6 @@ PETSC_EXTERN PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt n, const Pets
 PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSMaterialInit(PSMaterial *, const char eos[], const char strength[], const char failure[]);
+PETSC_EXTERN PetscErrorCode PSMaterialDrive(const PSMaterial *, const PetscReal axes0[9], PetscInt nsteps, const PetscReal L[], PetscReal dt, PetscReal h, PetscReal sig[], PetscReal axes[], PetscReal dmg[], PetscReal pe[]);
 
 #endif

@@ -60,6 +60,9 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
   S->sw    = sw;
   S->dim   = scene->dim;
   S->pad   = PS_PAD;
+  S->ndamage = scene->ndamage;
+  for (d = 0; d < scene->nbody; d++)
+    if (scene->bodies[d].kind == PS_BODY_LAMINATE) S->has_ply = PETSC_TRUE;
   PetscCall(PetscMalloc1(scene->nmaterial, &S->mat));
   PetscCall(PetscArraycpy(S->mat, mats, scene->nmaterial));
   for (d = 0; d < 3; d++) {
@@ -161,7 +164,8 @@ PetscErrorCode PSRunParamsSetFromOptionsDM(DM dm, PSRunParams *r)
 
 typedef struct {
   PetscReal *x, *v, *mass, *vol, *V0, *F, *sig, *sdev, *p, *q, *e, *eps_p, *T, *D;
-  PetscInt  *mat;
+  PetscReal *axes, *smat; /* anisotropic scenes */
+  PetscInt  *mat, *body, *ply;
   PetscInt64 *id;
   PetscInt   n;
 } PSFields;
@@ -188,7 +192,13 @@ static PetscErrorCode FieldsGet(PSSolver *S, PSFields *f)
   PetscCall(DMSwarmGetField(sw, PS_FIELD_ID, NULL, NULL, (void **)&f->id));
   if (S->scene->need_plastic) PetscCall(DMSwarmGetField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&f->eps_p));
   if (S->scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
-  if (S->scene->need_damage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
+  if (S->scene->ndamage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
+  if (S->scene->anisotropic) {
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&f->axes));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
+    PetscCall(DMSwarmGetField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body));
+    if (S->has_ply) PetscCall(DMSwarmGetField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -197,6 +207,10 @@ static PetscErrorCode FieldsRestore(PSSolver *S, PSFields *f)
   DM sw = S->sw;
 
   PetscFunctionBeginUser;
+  if (f->ply) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply));
+  if (f->body) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body));
+  if (f->smat) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
+  if (f->axes) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&f->axes));
   if (f->D) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
   if (f->T) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
   if (f->eps_p) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&f->eps_p));
@@ -477,7 +491,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PetscCall(VecGetArrayRead(S->Hl, (const PetscScalar **)&hv));
   for (p = 0; p < f.n; p++) {
     PetscReal     L[3][3] = {{0}}, J, cs, v2 = 0.0, hm = 0.0;
-    PSMarkerState st;
+    PSMarkerState st = {NULL};
     sh    = S->shape[p];
     n3[0] = n3[1] = sh.n;
     n3[2] = dim == 3 ? sh.n : 1;
@@ -532,11 +546,18 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
     st.e     = &f.e[p];
     st.eps_p = f.eps_p ? &f.eps_p[p] : NULL;
     st.T     = f.T ? &f.T[p] : NULL;
-    st.D     = f.D ? &f.D[p] : NULL;
+    st.D     = f.D ? &f.D[p * S->scene->ndamage] : NULL;
+    if (f.axes) {
+      /* a ply's axes at t = 0 from its body and ply (identity outside laminates) */
+      static const PetscReal I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+      const PetscInt         k     = f.ply ? f.ply[p] : -1;
+      st.axes0 = k >= 0 ? &S->scene->bodies[f.body[p]].ply_axes[9 * k] : I9;
+      st.axes  = &f.axes[9 * p];
+      st.smat  = &f.smat[6 * p];
+    }
     for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
-    PetscCall(PSMarkerUpdate(&S->mat[f.mat[p]], dim, L, dt, hm, S->run.c_linear, S->run.c_quadratic, &st, &J, &cs));
-    PetscCheck(J > 0.0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "marker %lld (material %" PetscInt_FMT ") would reach J = det F = %g <= 0 at step %" PetscInt_FMT ", t = %g s: the step inverts it; lower run.cfl or refine the grid",
-               (long long)f.id[p], f.mat[p], (double)J, S->step + 1, (double)S->t);
+    PetscCall(S->mat[f.mat[p]].update_fn(&S->mat[f.mat[p]], dim, L, dt, hm, S->run.c_linear, S->run.c_quadratic, &st, &J, &cs));
+    PetscCall(PSMarkerCheckJ(J, f.id[p], f.mat[p], S->step + 1, S->t));
     for (d = 0; d < dim; d++) {
       f.x[p * dim + d] += S->dx[p * dim + d];
       v2 += f.v[p * dim + d] * f.v[p * dim + d];

@@ -72,8 +72,10 @@ def test_fields_are_lean_for_isotropic_scenes(tmpdir_mpi):
     rng = np.random.default_rng(9)
     lam = random_laminate_scene(2, rng)
     m2 = core.initialize(lam)
-    # no axes (9 reals) and no ply id (one int) for a scene without anisotropy or laminates
-    assert m2.bytes_per_marker - m.bytes_per_marker == 9 * 8 + 4
+    # no axes (9 reals), ply stress (6 reals), ply damage (4 reals: IM7/8552 has Hashin failure)
+    # and no ply id (one int) for a scene without anisotropy or laminates
+    assert all(x.preset == "IM7/8552" for x in lam.materials)
+    assert m2.bytes_per_marker - m.bytes_per_marker == (9 + 6 + 4) * 8 + 4
     assert m.bytes_per_marker == m.cs.marker_bytes(None)     # what `check` reports is what the swarm holds
     # plastic strain and temperature only with Johnson-Cook strength, damage only with failure
     steel = Scene(2, iso.grid, [Material("steel", preset="4340-steel")],

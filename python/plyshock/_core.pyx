@@ -53,7 +53,7 @@ cdef extern from "plyshock.h":
         PetscBool anisotropic
         PetscBool need_plastic
         PetscBool need_temperature
-        PetscBool need_damage
+        PetscInt ndamage
         PetscReal *T0
         PetscInt nbody
         PSBody *bodies
@@ -95,9 +95,17 @@ cdef extern from "solver.h":
         PetscInt history_interval
         PetscInt progress_interval
         PetscReal dt_max
+    ctypedef struct PSPly:
+        PetscReal C[36]
+        PetscReal K_R, c2max
+        PetscReal X[6]
+        PetscReal Gc[4]
+        PetscReal E[4]
     ctypedef struct PSMaterial:
         PetscReal rho0, K, c0, s, gamma0, G, Y0, A, B, n, C, m, T_melt, T_room, eps_dot0, cv, chi, spall
         PetscReal D[5]
+        PetscBool aniso
+        PSPly ply
     ctypedef struct PSTotals:
         PetscReal mass, kinetic, internal, lost_mass, lost_energy, max_pressure
         PetscReal p[3]
@@ -114,6 +122,7 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *)
     PetscErrorCode PSSolverRun(PSSolver *, const char *, PetscInt, const char **, const char **, const char **, const char **)
     PetscErrorCode PSMaterialInit(PSMaterial *, const char *, const char *, const char *)
+    PetscErrorCode PSMaterialDrive(const PSMaterial *, const PetscReal *, PetscInt, const PetscReal *, PetscReal, PetscReal, PetscReal *, PetscReal *, PetscReal *, PetscReal *)
     PetscErrorCode PSSolverCheckpoint(PSSolver *, const char *)
     PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt, const PetscInt64 *)
     PetscErrorCode PSSolverRestart(PSSolver *, const char *)
@@ -165,7 +174,7 @@ cdef class CScene:
         self.s.anisotropic = PETSC_TRUE if spec["anisotropic"] else PETSC_FALSE
         self.s.need_plastic = PETSC_TRUE if spec.get("need_plastic") else PETSC_FALSE
         self.s.need_temperature = PETSC_TRUE if spec.get("need_temperature") else PETSC_FALSE
-        self.s.need_damage = PETSC_TRUE if spec.get("need_damage") else PETSC_FALSE
+        self.s.ndamage = spec["ndamage"]
         T0 = spec.get("T0", [294.0] * len(dens))
         self.s.T0 = <PetscReal *>calloc(max(1, len(dens)), sizeof(PetscReal))
         for i in range(len(dens)):
@@ -336,11 +345,7 @@ cdef class Solver:
         mats = <PSMaterial *>calloc(max(1, len(materials)), sizeof(PSMaterial))
         try:
             for i, md in enumerate(materials):
-                for key in ("rho0", "K", "c0", "s", "gamma0", "G", "Y0", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "cv", "chi", "spall"):
-                    setattr_material(&mats[i], key, md.get(key, 0.0))
-                for k in range(5):
-                    mats[i].D[k] = md.get("D", [0.0] * 5)[k]
-                CHK(PSMaterialInit(&mats[i], md["eos"].encode(), md["strength"].encode(), md["failure"].encode()))
+                fill_material(&mats[i], md)
             for i in range(6):
                 cbc[i] = bc[i]
             CHK(PSSolverCreate(&scene.s, da.dm, sw.dm, &self.r, mats, cbc, &self.S))
@@ -397,24 +402,48 @@ cdef class Solver:
         CHK(PSSolverRun(self.S, od, len(attrs), names.ptr, values.ptr, bn.ptr, mn.ptr))
 
 
-cdef void setattr_material(PSMaterial *M, str key, double v):
-    if key == "rho0": M.rho0 = v
-    elif key == "K": M.K = v
-    elif key == "c0": M.c0 = v
-    elif key == "s": M.s = v
-    elif key == "gamma0": M.gamma0 = v
-    elif key == "G": M.G = v
-    elif key == "Y0": M.Y0 = v
-    elif key == "A": M.A = v
-    elif key == "B": M.B = v
-    elif key == "n": M.n = v
-    elif key == "C": M.C = v
-    elif key == "m": M.m = v
-    elif key == "T_melt": M.T_melt = v
-    elif key == "T_room": M.T_room = v
-    elif key == "eps_dot0": M.eps_dot0 = v
-    elif key == "cv": M.cv = v
-    elif key == "chi": M.chi = v
-    elif key == "spall": M.spall = v
+cdef int fill_material(PSMaterial *M, dict md) except -1:
+    """A PSMaterial from core.material_to_c's dict (missing numbers are 0)."""
+    cdef int k
+    g = lambda key: float(md.get(key, 0.0))
+    memset(M, 0, sizeof(PSMaterial))
+    M.rho0, M.K, M.c0, M.s, M.gamma0, M.G = g("rho0"), g("K"), g("c0"), g("s"), g("gamma0"), g("G")
+    M.Y0, M.A, M.B, M.n, M.C, M.m = g("Y0"), g("A"), g("B"), g("n"), g("C"), g("m")
+    M.T_melt, M.T_room, M.eps_dot0, M.cv, M.chi, M.spall = g("T_melt"), g("T_room"), g("eps_dot0"), g("cv"), g("chi"), g("spall")
+    for k in range(5):
+        M.D[k] = md.get("D", [0.0] * 5)[k]
+    if md.get("aniso"):
+        M.aniso = <PetscBool>1
+        for k in range(36):
+            M.ply.C[k] = md["ply_C"][k]
+        for k in range(6):
+            M.ply.X[k] = md["ply_X"][k]
+        for k in range(4):
+            M.ply.Gc[k] = md["ply_Gc"][k]
+            M.ply.E[k] = md["ply_E"][k]
+        M.ply.K_R, M.ply.c2max = g("K_R"), g("c2max")
+    CHK(PSMaterialInit(M, md["eos"].encode(), md["strength"].encode(), md["failure"].encode()))
+    return 0
 
 
+def drive(dict md, axes0, L, double dt, double h):
+    """The solver's kernel on one 3D marker under the velocity gradients L
+    (n x 3 x 3, 1/s) with time step dt (s) and regularisation length h (m).
+    Returns stress (n x 3 x 3, Pa), axes (n x 3 x 3, rows a_k), damage (n x 4),
+    pressure (Pa), energy (J/kg) and J after each step."""
+    cdef PSMaterial M
+    cdef double[::1] a0 = np.ascontiguousarray(axes0, dtype=float).reshape(9)
+    cdef double[::1] Lh = np.ascontiguousarray(L, dtype=float).reshape(-1)
+    cdef PetscInt n = Lh.shape[0] // 9
+    sig = np.zeros((max(n, 1), 3, 3))
+    ax = np.zeros((max(n, 1), 3, 3))
+    dmg = np.zeros((max(n, 1), 4))
+    pe = np.zeros((max(n, 1), 3))
+    cdef double[:, :, ::1] vs = sig
+    cdef double[:, :, ::1] va = ax
+    cdef double[:, ::1] vd = dmg
+    cdef double[:, ::1] vp = pe
+    fill_material(&M, md)
+    if n > 0:
+        CHK(PSMaterialDrive(&M, &a0[0], n, &Lh[0], dt, h, &vs[0, 0, 0], &va[0, 0, 0], &vd[0, 0], &vp[0, 0]))
+    return dict(stress=sig[:n], axes=ax[:n], damage=dmg[:n], pressure=pe[:n, 0], energy=pe[:n, 1], J=pe[:n, 2])

@@ -50,7 +50,8 @@ def scene_to_c(scene):
                 density=[m.density for m in scene.materials], anisotropic=scene.anisotropic, bodies=bodies,
                 need_plastic=any(m.strength is not None and m.strength.get("type") != "none" for m in scene.materials),
                 need_temperature=any((m.strength or {}).get("type") == "johnson-cook" for m in scene.materials),
-                need_damage=any(m.failure is not None for m in scene.materials),
+                ndamage=4 if any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
+                else 1 if any(m.failure is not None for m in scene.materials) else 0,
                 T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials])
 
 
@@ -167,7 +168,8 @@ def local_fields(m, names):
             out[name] = _core.get_int64_field(m.sw, name)
             continue
         f = m.sw.getField(name)
-        out[name] = np.array(f).reshape(n, bs.get(name, 1))
+        a = np.array(f)
+        out[name] = a.reshape(n, a.size // n if n else bs.get(name, 1))
         m.sw.restoreField(name)
     return out
 
@@ -245,14 +247,15 @@ def material_to_c(m, path):
          "T_room": 294.0, "eps_dot0": 1.0, "T_melt": 1e30}
     el = m.elastic or {}
     if el.get("type") == "orthotropic":
-        raise DeckError(f"{path}.elastic", "orthotropic elasticity is not in the time-stepping solver yet (ply mechanics "
-                        "come with the next issue); `plyshock init` inserts such plies")
+        d.update(ply_data(m))
     if m.eos is not None:
         d.update(eos="mie-gruneisen", c0=m.eos["c0"], s=m.eos["s"], gamma0=m.eos["gamma0"],
                  spall=float(m.eos.get("spall_pressure", 0.0)))
         if d["spall"] > 0:
             raise DeckError(f"{path}.eos.spall_pressure", f"{d['spall']} must be a negative pressure (Pa, tension)")
         d["G"] = m.shear_modulus or 0.0
+    elif d.get("aniso"):
+        d["K"] = d["K_R"]       # no EOS: linear volumetric response, sigma = C : eps exactly (orthotropic.c)
     elif el.get("type") == "isotropic":
         E, nu = el["E"], el["nu"]
         d.update(K=E / (3 * (1 - 2 * nu)), G=E / (2 * (1 + nu)))
@@ -272,12 +275,67 @@ def material_to_c(m, path):
             if m.specific_heat is None:
                 raise DeckError(f"{path}.specific_heat", "is required with Johnson-Cook strength (J/kg/K; temperature from plastic work)")
     d["cv"] = m.specific_heat or 0.0
+    if d.get("aniso"):
+        if m.failure is not None:
+            d["failure"] = m.failure["type"]
+        return d
     if m.failure is not None:
         if d["strength"] == "none":
             raise DeckError(f"{path}.failure", "Johnson-Cook failure needs a strength model (it accumulates plastic strain)")
         d["failure"] = "johnson-cook"
         d["D"] = [m.failure[k] for k in ("D1", "D2", "D3", "D4", "D5")]
     return d
+
+
+def ply_data(m):
+    """An orthotropic ply's data for the C kernel (orthotropic.c): stiffness C in
+    material axes (Voigt 11,22,33,23,13,12, engineering shears), the Reuss bulk
+    modulus, the bound c2max on every wave speed^2, strengths, fracture energies."""
+    from .scene import orthotropic_compliance
+    el = m.elastic
+    S = orthotropic_compliance(el)
+    C = np.linalg.inv(S)
+    C = 0.5 * (C + C.T)
+    # Mandel form (shears times sqrt 2): its largest eigenvalue bounds the
+    # acoustic tensor's for every direction and rotation (2D: conservative)
+    w = np.array([1, 1, 1, np.sqrt(2), np.sqrt(2), np.sqrt(2)])
+    lam = np.linalg.eigvalsh(C * np.outer(w, w)).max()
+    st = m.strengths or {}
+    f = m.failure or {}
+    return dict(aniso=1, ply_C=C.reshape(36).tolist(), K_R=1.0 / S[:3, :3].sum(), c2max=lam / m.density,
+                ply_X=[st.get(k, 0.0) for k in ("Xt", "Xc", "Yt", "Yc", "S12", "S23")],
+                ply_Gc=[f.get(k, 0.0) for k in ("G_ft", "G_fc", "G_mt", "G_mc")],
+                ply_E=[el["E1"], el["E1"], el["E2"], el["E2"]])
+
+
+def drive_material(material, L, dt, axes=None, h=1.0e-3):
+    """The solver's constitutive kernel on one 3D marker, no grid: apply the
+    velocity gradients L (n x 3 x 3, 1/s), time step dt (s); axes: the ply's
+    material axes at t = 0 (rows a_1, a_2, a_3; default x, y, z); h: the cell
+    size that regularises damage (m).  Returns dict of arrays per step: stress
+    (n x 3 x 3 Pa), axes, damage (n x 4), pressure, energy, J."""
+    from . import _core
+    if not isinstance(material, dict):
+        material = material_to_c(material, "material")
+    return _core.drive(material, np.eye(3) if axes is None else axes, L, dt, h)
+
+
+def damage_warnings(scene):
+    """Ply failure modes whose fracture energy cannot be spread over a cell of
+    this grid (2 G_c E / (X^2 h) <= 1: the mode then fails at once, dissipating
+    less than G_c).  One line per material and mode."""
+    h = max(scene.grid.h)
+    out = []
+    for m in scene.materials:
+        if (m.failure or {}).get("type") != "hashin":
+            continue
+        d = ply_data(m)
+        for k, mode in enumerate(("fiber tension", "fiber compression", "matrix tension", "matrix compression")):
+            lmax = 2 * d["ply_Gc"][k] * d["ply_E"][k] / d["ply_X"][k] ** 2
+            if h >= lmax:
+                out.append(f"material {m.name}: {mode} fails at once on cells of {h:.3g} m (its fracture energy "
+                           f"spreads over at most {lmax:.3g} m); refine to honour G_c")
+    return out
 
 
 def run_to_c(run):

@@ -5,6 +5,7 @@ by `type`; later issues add the solver's models (EOS, strength, failure) that
 read these parameters.
 """
 import copy
+import math
 
 # Linear Us-up Mie-Grueneisen: D. J. Steinberg, "Equation of state and strength
 # properties of selected materials", LLNL UCRL-MA-106439 (1996).
@@ -44,15 +45,21 @@ PRESETS = {
         "source": "Steinberg UCRL-MA-106439 (EOS, G)",
     },
     # Unidirectional IM7/8552 lamina: NASA CompDam test properties after Camanho
-    # et al.; G23 = E2 / (2 (1 + nu23)).  Density 1570 kg/m^3 from the Hexcel
+    # et al. (stiffness, in-situ strengths, fracture toughnesses G_XT, G_XC,
+    # G_YT, G_SL); G23 = E2 / (2 (1 + nu23)); S23 = Yc / (2 tan 53 deg) from
+    # CompDam's fracture-plane angle.  Density 1570 kg/m^3 from the Hexcel
     # HexPly 8552 product data sheet (cured laminate density of IM7/8552).
+    # No EOS: we found no sourced Hugoniot of IM7/8552; without one the ply's
+    # volumetric response is linear (its Reuss bulk modulus).
     "IM7/8552": {
         "density": 1570.0,
         "elastic": {"type": "orthotropic", "E1": 171.42e9, "E2": 9.08e9, "E3": 9.08e9,
                     "G12": 5.29e9, "G13": 5.29e9, "G23": 9.08e9 / (2 * 1.52),
                     "nu12": 0.32, "nu13": 0.32, "nu23": 0.52},
-        "strengths": {"Xt": 2326.2e6, "Xc": 1200.1e6, "Yt": 62.3e6, "Yc": 199.8e6, "S12": 92.3e6},
-        "source": "NASA CompDam (after Camanho) stiffness and strengths; Hexcel 8552 data sheet density",
+        "strengths": {"Xt": 2326.2e6, "Xc": 1200.1e6, "Yt": 62.3e6, "Yc": 199.8e6, "S12": 92.3e6,
+                      "S23": 199.8e6 / (2 * math.tan(math.radians(53.0)))},
+        "failure": {"type": "hashin", "G_ft": 133.3e3, "G_fc": 47.5e3, "G_mt": 277.0, "G_mc": 788.0},
+        "source": "NASA CompDam (after Camanho) stiffness, strengths, fracture toughness; Hexcel 8552 data sheet density",
     },
 }
 

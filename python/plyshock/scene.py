@@ -51,12 +51,16 @@ class Grid:
 
 
 ELASTIC_KEYS = {"isotropic": ("type", "E", "nu"),
-                "orthotropic": ("type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23")}
+                "orthotropic": ("type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23"),
+                "transversely-isotropic": ("type", "E1", "E2", "G12", "nu12", "nu23")}
+PLY_STRENGTHS = ("Xt", "Xc", "Yt", "Yc", "S12", "S23")
+FRACTURE_PLANE_DEG = 53.0   # IM7/8552 fracture-plane angle under transverse compression (NASA CompDam, after Camanho)
 MODEL_KEYS = {
     "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0", "spall_pressure")},
     "strength": {"none": ("type",), "elastic-plastic": ("type", "yield_stress", "taylor_quinney"),
                  "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney")},
-    "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5")},
+    "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5"),
+                "hashin": ("type", "G_ft", "G_fc", "G_mt", "G_mc")},   # fracture energies J/m^2
 }
 
 
@@ -84,7 +88,7 @@ class Material:
     strength: Optional[dict] = None
     failure: Optional[dict] = None
     specific_heat: Optional[float] = None    # J/kg/K
-    strengths: Optional[dict] = None         # ply strengths Xt, Xc, Yt, Yc, S12 (Pa)
+    strengths: Optional[dict] = None         # ply strengths Xt, Xc, Yt, Yc, S12, S23 (Pa)
 
     KEYS = ("name", "preset", "density", "elastic", "eos", "shear_modulus", "strength", "failure", "specific_heat", "strengths")
 
@@ -112,6 +116,10 @@ class Material:
         if self.elastic is not None:
             self._model("elastic", ELASTIC_KEYS, path)
             e = self.elastic
+            if e["type"] == "transversely-isotropic":     # axis 1 the symmetry axis: 2 and 3 alike
+                e = self.elastic = {"type": "orthotropic", "E1": e["E1"], "E2": e["E2"], "E3": e["E2"], "G12": e["G12"],
+                                    "G13": e["G12"], "G23": e["E2"] / (2 * (1 + e["nu23"])), "nu12": e["nu12"],
+                                    "nu13": e["nu12"], "nu23": e["nu23"]}
             if e["type"] == "isotropic":
                 if self.shear_modulus is not None:
                     raise DeckError(f"{path}.shear_modulus", "given together with elastic: {type: isotropic}; keep one: either elastic {E, nu} or shear_modulus (with an eos)")
@@ -136,9 +144,30 @@ class Material:
         if self.specific_heat is not None:
             self.specific_heat = number(self.specific_heat, f"{path}.specific_heat", 0, None, lo_open=True)
         if self.strengths is not None:
-            check_keys(self.strengths, ("Xt", "Xc", "Yt", "Yc", "S12", "S23"), f"{path}.strengths")
-            for k, v in self.strengths.items():
-                number(v, f"{path}.strengths.{k}", 0, None, lo_open=True)
+            check_keys(self.strengths, PLY_STRENGTHS, f"{path}.strengths")
+            for k, v in list(self.strengths.items()):
+                self.strengths[k] = number(v, f"{path}.strengths.{k}", 0, None, lo_open=True)
+        if self.anisotropic:
+            for k in ("shear_modulus", "strength"):
+                if getattr(self, k) is not None and not (k == "strength" and self.strength["type"] == "none"):
+                    raise DeckError(f"{path}.{k}", "does not apply to an orthotropic ply (its stiffness gives the shear "
+                                    "response and plies have no plasticity); remove it")
+        ftype = (self.failure or {}).get("type")
+        if ftype == "hashin":
+            if not self.anisotropic:
+                raise DeckError(f"{path}.failure.type", "hashin is a ply failure model: it needs elastic: {type: orthotropic, ...}")
+            st = dict(self.strengths or {})
+            for k in PLY_STRENGTHS[:5]:
+                if k not in st:
+                    raise DeckError(f"{path}.strengths.{k}", "is required with failure type hashin (Pa, > 0)")
+            # transverse shear strength from the fracture-plane angle unless given:
+            # S23 = Yc / (2 tan 53 deg) (Puck & Schuermann; CompDam's angle for IM7/8552)
+            st.setdefault("S23", st["Yc"] / (2 * np.tan(np.radians(FRACTURE_PLANE_DEG))))
+            self.strengths = st
+            for k in MODEL_KEYS["failure"]["hashin"][1:]:
+                number(self.failure[k], f"{path}.failure.{k}", 0, None, lo_open=True)
+        elif ftype == "johnson-cook" and self.anisotropic:
+            raise DeckError(f"{path}.failure.type", "johnson-cook failure is for metals; an orthotropic ply takes hashin")
         return self
 
     def _model(self, key, table, path):
@@ -153,6 +182,7 @@ class Material:
                 m[k] = number(v, f"{path}.{key}.{k}")     # YAML reads 1.0e9 (no exponent sign) as a string
         required = {"isotropic": ("E", "nu"), "orthotropic": ELASTIC_KEYS["orthotropic"][1:], "mie-gruneisen": ("c0", "s", "gamma0"),
                     "johnson-cook": ("A", "B", "n", "C", "m", "T_melt") if key == "strength" else ("D1", "D2", "D3", "D4", "D5"),
+                    "transversely-isotropic": ELASTIC_KEYS["transversely-isotropic"][1:], "hashin": MODEL_KEYS["failure"]["hashin"][1:],
                     "elastic-plastic": ("yield_stress",), "none": ()}[m["type"]]
         for k in required:
             if k not in m:

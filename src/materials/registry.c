@@ -3,7 +3,7 @@
 */
 #include "../materials.h"
 
-static PetscFunctionList PSEOSList = NULL, PSStrengthList = NULL, PSFailureList = NULL;
+static PetscFunctionList PSEOSList = NULL, PSStrengthList = NULL, PSFailureList = NULL, PSPlyFailureList = NULL;
 
 PetscErrorCode PSMaterialsRegisterAll(void)
 {
@@ -14,10 +14,12 @@ PetscErrorCode PSMaterialsRegisterAll(void)
   PetscCall(PetscFunctionListAdd(&PSStrengthList, "elastic-plastic", PSStrengthElasticPlastic));
   PetscCall(PetscFunctionListAdd(&PSStrengthList, "johnson-cook", PSStrengthJohnsonCook));
   PetscCall(PetscFunctionListAdd(&PSFailureList, "johnson-cook", PSFailureJohnsonCook));
+  PetscCall(PetscFunctionListAdd(&PSPlyFailureList, "hashin", PSPlyFailureHashin));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Models of a material by name; "none" strength or failure: no function. */
+/* Models of a material by name; "none" strength or failure: no function.
+   M->aniso (set by the caller) picks the orthotropic kernel and ply failure models. */
 PetscErrorCode PSMaterialInit(PSMaterial *M, const char eos[], const char strength[], const char failure[])
 {
   PetscBool none;
@@ -32,11 +34,17 @@ PetscErrorCode PSMaterialInit(PSMaterial *M, const char eos[], const char streng
     PetscCall(PetscFunctionListFind(PSStrengthList, strength, &M->strength_fn));
     PetscCheck(M->strength_fn, PETSC_COMM_SELF, PETSC_ERR_ARG_UNKNOWN_TYPE, "unknown strength type %s", strength);
   }
+  PetscCheck(!M->aniso || !M->strength_fn, PETSC_COMM_SELF, PETSC_ERR_SUP, "strength type %s: orthotropic plies have no plasticity", strength);
   PetscCall(PetscStrcmp(failure, "none", &none));
-  M->failure_fn = NULL;
-  if (!none) {
+  M->failure_fn     = NULL;
+  M->ply_failure_fn = NULL;
+  if (!none && M->aniso) {
+    PetscCall(PetscFunctionListFind(PSPlyFailureList, failure, &M->ply_failure_fn));
+    PetscCheck(M->ply_failure_fn, PETSC_COMM_SELF, PETSC_ERR_ARG_UNKNOWN_TYPE, "unknown ply failure type %s", failure);
+  } else if (!none) {
     PetscCall(PetscFunctionListFind(PSFailureList, failure, &M->failure_fn));
     PetscCheck(M->failure_fn, PETSC_COMM_SELF, PETSC_ERR_ARG_UNKNOWN_TYPE, "unknown failure type %s", failure);
   }
+  M->update_fn = M->aniso ? PSMarkerUpdateOrthotropic : PSMarkerUpdate;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -33,7 +33,7 @@ static void Unpack(PetscInt dim, const PetscReal *v, PetscReal S[3][3])
   }
 }
 
-static void Pack(PetscInt dim, const PetscReal S[3][3], PetscReal *v)
+void PSStressPack(PetscInt dim, const PetscReal S[3][3], PetscReal *v)
 {
   v[0] = S[0][0];
   v[1] = S[1][1];
@@ -51,7 +51,7 @@ static PetscReal Det3(const PetscReal A[3][3])
 }
 
 /* R of F = R U: X <- (X + X^-T)/2 until it stops changing (Higham 1986) */
-static void PolarRotation(const PetscReal F[3][3], PetscReal R[3][3])
+void PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3])
 {
   PetscReal X[3][3], C[3][3];
   PetscInt  it, i, j;
@@ -86,6 +86,36 @@ static void PolarRotation(const PetscReal F[3][3], PetscReal R[3][3])
     for (j = 0; j < 3; j++) R[i][j] = X[i][j];
 }
 
+/* F_new = (I + dt L) F (F stored dim x dim, plane strain F_zz = 1); returns det F_new */
+PetscReal PSDeformationUpdate(PetscInt dim, const PetscReal L[3][3], PetscReal dt, const PetscReal *Fs, PetscReal Fn[3][3])
+{
+  PetscReal F[3][3];
+  PetscInt  i, j, k;
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? Fs[i * dim + j] : (i == j ? 1.0 : 0.0);
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) {
+      Fn[i][j] = F[i][j];
+      for (k = 0; k < 3; k++) Fn[i][j] += dt * L[i][k] * F[k][j];
+    }
+  return Det3(Fn);
+}
+
+/* A step that would invert a marker is an error naming it, never a silent NaN. */
+PetscErrorCode PSMarkerCheckJ(PetscReal J, PetscInt64 id, PetscInt material, PetscInt step, PetscReal t)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(J > 0.0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "marker %lld (material %" PetscInt_FMT ") would reach J = det F = %g <= 0 at step %" PetscInt_FMT ", t = %g s: the step inverts it; lower run.cfl or refine the grid",
+             (long long)id, material, (double)J, step, (double)t);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* q = rho h (c_q h tr(D)^2 + c_l c |tr D|) in compression only (von Neumann-Richtmyer + linear, Wilkins 1980) */
+PetscReal PSViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic)
+{
+  return trD < 0.0 ? rho * h * (c_quadratic * h * trD * trD + c_linear * c * PetscAbsReal(trD)) : 0.0;
+}
+
 PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e, PetscReal p, PetscReal *c)
 {
   PetscReal A, B, c2;
@@ -93,27 +123,21 @@ PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e,
   PetscFunctionBeginUser;
   (void)e;
   PetscCall(M->eos_fn(M, J, p, 0.0, &A, &B, &c2));
-  *c = PetscSqrtReal(c2 + 4.0 * M->G * J / (3.0 * M->rho0));
+  if (M->aniso) *c = PetscSqrtReal(M->ply.c2max * J + PetscMax(0.0, c2 - M->ply.K_R * J / M->rho0)); /* see orthotropic.c */
+  else *c = PetscSqrtReal(c2 + 4.0 * M->G * J / (3.0 * M->rho0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
 {
-  PetscReal F[3][3] = {{0}}, Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3], T3[3][3];
-  PetscReal J, rho, trD, A, B, c2, c, q = 0.0, wdev = 0.0, p0 = *s->p, p1, e1;
+  PetscReal Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3], T3[3][3];
+  PetscReal J, rho, trD, A, B, c2, c, q, wdev = 0.0, p0 = *s->p, p1, e1;
   PetscBool failed = (s->D && *s->D >= 1.0) ? PETSC_TRUE : PETSC_FALSE;
   PetscInt  i, j, k;
 
   PetscFunctionBeginUser;
   /* 1. deformation gradient */
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? s->F[i * dim + j] : (i == j ? 1.0 : 0.0);
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      Fn[i][j] = F[i][j];
-      for (k = 0; k < 3; k++) Fn[i][j] += dt * L[i][k] * F[k][j];
-    }
-  J     = Det3(Fn);
+  J     = PSDeformationUpdate(dim, L, dt, s->F, Fn);
   *Jout = J;
   if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS); /* the caller names the marker */
   for (i = 0; i < dim; i++)
@@ -127,7 +151,7 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
   for (i = 0; i < 3; i++) D[i][i] -= trD / 3.0; /* D' */
 
   /* 2-3. unrotated deviator with J2 return */
-  PolarRotation(Fn, R);
+  PSPolarRotation(Fn, R);
   Unpack(dim, s->sdev, S);
   if (M->G > 0.0 && !failed) {
     PetscReal seq2 = 0.0, Dd = 0.0, S0[3][3];
@@ -177,12 +201,12 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
       for (j = 0; j < 3; j++) S[i][j] = 0.0;
     wdev = 0.0;
   }
-  Pack(dim, S, s->sdev);
+  PSStressPack(dim, S, s->sdev);
 
   /* 4-5. pressure, viscosity, energy */
   PetscCall(M->eos_fn(M, J, p0, trD * dt, &A, &B, &c2));
   c = PetscSqrtReal(c2);
-  if (trD < 0.0) q = rho * h * (c_quadratic * h * trD * trD + c_linear * c * PetscAbsReal(trD));
+  q = PSViscosity(rho, h, trD, c, c_linear, c_quadratic);
   {
     /* the viscous work, like the pressure work, with the step's mean q */
     const PetscReal a = dt * trD / rho;
@@ -207,7 +231,7 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
       for (k = 0; k < 3; k++) Dt[i][j] += R[i][k] * T3[k][j];
     }
   for (i = 0; i < 3; i++) Dt[i][i] -= p1;
-  Pack(dim, Dt, s->sig);
+  PSStressPack(dim, Dt, s->sig);
   *cout = PetscSqrtReal(c2 + 4.0 * M->G / (3.0 * rho));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
