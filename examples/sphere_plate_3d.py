@@ -7,6 +7,12 @@ cuts the plate and the sphere to their quarters.  The paper gives no sizes;
 these are ours.
 
     python examples/sphere_plate_3d.py [-o OUT.h5] [--png FILE] [--cell 0.5e-3]
+    mpiexec -n 2 python examples/sphere_plate_3d.py --run [-o OUTDIR] [--cell 0.25e-3]
+
+The first form inserts the markers and draws them (fibre glyphs by ply); the
+second runs the impact and draws before.png, after.png (turned fibres),
+damage.png, the same three in a cut along the symmetry plane y = 0
+(*_cut.png), and velocity.png (the sphere's) in OUTDIR.
 
 setup(**kw) returns the Scene; tests call it at small size.
 """
@@ -15,10 +21,11 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
-from plyshock import Body, Frame, Grid, Laminate, Material, Scene, Sphere  # noqa: E402
+from plyshock import Body, Frame, Grid, Laminate, Material, Run, Scene, Sphere  # noqa: E402
 
 
-def setup(cell=0.5e-3, subdivision=1, layup="[0/90/90/0]", ply_thickness=0.5e-3, radius=3e-3, speed=600.0):
+def setup(cell=0.5e-3, subdivision=1, layup="[0/90/90/0]", ply_thickness=0.5e-3, radius=3e-3, speed=600.0,
+          t_end=8e-6, output_interval=2e-6):
     half, T = 25e-3, 4 * ply_thickness
     lower, upper = [0.0, 0.0, -6e-3], [half, half, 10e-3]
     cells = [max(1, round((u - l) / cell)) for l, u in zip(lower, upper)]
@@ -30,17 +37,25 @@ def setup(cell=0.5e-3, subdivision=1, layup="[0/90/90/0]", ply_thickness=0.5e-3,
     boundary = {"x-": "symmetry", "y-": "symmetry", "x+": "free", "y+": "free", "z-": "free", "z+": "free"}
     return Scene(3, Grid(lower, upper, cells, boundary),
                  [Material("IM7/8552", preset="IM7/8552"), Material("OFHC-copper", preset="OFHC-copper")],
-                 [plate, ball])
+                 [plate, ball], Run(t_end=t_end, output_interval=output_interval))
 
 
 # the picture frames the impact region (m)
 ZOOM = [0, 0, -1e-3, 6e-3, 6e-3, 10e-3]
+# the cut: a slab along the symmetry plane y = 0 (m)
+CUT = [0, 0, -2e-3, 8e-3, 0.6e-3, 8e-3]
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("-o", "--output", default="out/sphere_plate_3d.h5")
+    ap.add_argument("-o", "--output", help="marker file (default out/sphere_plate_3d.h5), or with --run the "
+                    "output directory (default out/sphere_plate_3d)")
     ap.add_argument("--png", default="out/sphere_plate_3d.png")
     ap.add_argument("--cell", type=float, default=0.5e-3, help="cell size (m)")
+    ap.add_argument("--subdivision", type=int, default=1, help="sub-cells per cell and direction")
+    ap.add_argument("--run", action="store_true", help="run the impact (under mpiexec) and draw its pictures")
     a, petsc = ap.parse_known_args()
-    from plyshock.cli import run_scene
-    sys.exit(run_scene(setup(cell=a.cell), a.output, a.png, petsc, zoom=ZOOM))
+    from plyshock.cli import run_impact, run_scene
+    sc = setup(cell=a.cell, subdivision=a.subdivision)
+    if a.run:
+        sys.exit(run_impact(sc, a.output or "out/sphere_plate_3d", petsc, zoom=ZOOM, projectile="sphere", cut=CUT))
+    sys.exit(run_scene(sc, a.output or "out/sphere_plate_3d.h5", a.png, petsc, zoom=ZOOM))

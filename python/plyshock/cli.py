@@ -159,11 +159,67 @@ def run_scene(scene, output, png=None, petsc_args=(), axis=1, zoom=None):
         return 2
 
 
+def run_impact(scene, outdir, petsc_args=(), zoom=None, projectile=None, cut=None):
+    """The examples' --run: validate, start PETSc, then impact(); exit status."""
+    from .errors import DeckError
+    try:
+        scene.validate()
+        import petsc4py
+        petsc4py.init([sys.argv[0]] + list(petsc_args))
+        out = impact(scene, outdir, zoom, projectile, cut)
+    except DeckError as e:
+        if _rank() == 0:
+            print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
+        return 2
+    _print0(f"{os.path.basename(outdir)}: {out['ranks']} rank(s), {out['wall']:.1f} s wall for the run")
+    return 0
+
+
+def impact(scene, outdir, zoom=None, projectile=None, cut=None):
+    """An impact example from layup to pictures (the method's figures): run the
+    scene to run.t_end in OUTDIR, then on rank 0 draw before.png (fibre glyphs
+    coloured by ply at t = 0), after.png (the turned fibre glyphs at the end),
+    damage.png (the same glyphs coloured by ply damage, when a ply can fail)
+    and velocity.png (the projectile's mean velocity against time).  With cut
+    (a zoom box of a slab in y, 3D) the first three also in the cut, looked at
+    in the x-z plane (*_cut.png).  Returns {pngs, wall, ranks}."""
+    from petsc4py import PETSc
+    comm = PETSc.COMM_WORLD
+    t0 = time.perf_counter()
+    _run(scene, scene.to_yaml(), outdir)
+    wall = time.perf_counter() - t0
+    pngs, err = [], None
+    if comm.getRank() == 0:
+        try:
+            import glob
+            from .post import plot_body_velocity, plot_markers
+            steps = sorted(glob.glob(os.path.join(outdir, "markers_*.h5")))
+            can_fail = any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
+            pics = [("before", steps[0], "ply", zoom, None), ("after", steps[-1], "ply", zoom, None)]
+            pics += [("damage", steps[-1], "damage", zoom, None)] if can_fail else []
+            if cut:
+                pics += [(f"{name}_cut", f, c, cut, "xz") for name, f, c, _, _ in pics]
+            for name, f, color, box, view in pics:
+                pngs.append(plot_markers(f, os.path.join(outdir, name + ".png"), zoom=box, color=color, view=view))
+            if projectile:
+                pngs.append(plot_body_velocity(outdir, projectile, os.path.join(outdir, "velocity.png")))
+            for png in pngs:
+                print(f"wrote {png}", flush=True)
+        except Exception as e:      # every rank raises, none waits for rank 0
+            err = f"{type(e).__name__}: {e}"
+    err = comm.tompi4py().bcast(err, root=0)
+    if err:
+        raise RuntimeError(f"impact pictures failed on rank 0: {err}")
+    return {"pngs": comm.tompi4py().bcast(pngs, root=0), "wall": wall, "ranks": comm.getSize()}
+
+
 def _run(scene, text, outdir, restart=None):
     from petsc4py import PETSc
     from . import core
     m = core.initialize(scene, restart=bool(restart))
     S = core.make_solver(m, restart)      # material and run errors before any step
+    for w in core.damage_warnings(scene):
+        _print0(f"warning: {w}")
     _print0(f"running {m.stats['markers']} markers on {PETSc.COMM_WORLD.getSize()} rank(s), {m.bytes_per_marker} bytes per marker; "
             f"{S.run_params}")
     core.run(m, outdir, text, S)

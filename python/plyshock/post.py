@@ -101,8 +101,40 @@ def plot_history(outdir, png):
     return png
 
 
-def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1, window=(1600, 1100)):
-    """Render the markers of `path` to `png`; returns the png path."""
+def plot_body_velocity(outdir, body, png):
+    """A body's mean velocity against time from OUTDIR/bodies.csv (the
+    projectile's residual velocity is its last value)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    B = np.genfromtxt(f"{outdir}/bodies.csv", delimiter=",", names=True, dtype=None, encoding=None)
+    b = B[B["body"] == body]
+    if not len(b):
+        raise SystemExit(f"plyshock: no body {body!r} in {outdir}/bodies.csv")
+    comps = [k for k in ("vx", "vy", "vz") if k in B.dtype.names]
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    t = b["time"] * 1e6
+    for k in comps:
+        ax.plot(t, b[k], label=k)
+    speed = np.sqrt(sum(b[k] ** 2 for k in comps))
+    ax.plot(t, speed, "k--", label="|v|")
+    ax.set_xlabel("time (us)")
+    ax.set_ylabel(f"{body} mean velocity (m/s)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title(f"{body}: {speed[0]:.1f} m/s at t = 0, {speed[-1]:.1f} m/s at {t[-1]:.2f} us")
+    fig.tight_layout()
+    fig.savefig(png, dpi=100)
+    plt.close(fig)
+    return png
+
+
+def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1, window=(1600, 1100), view=None):
+    """Render the markers of `path` to `png`; returns the png path.
+
+    color: ply, body or material (categorical), or damage (a ply marker's
+    largest damage variable, 0..1).  view (3D): None (oblique, default), or
+    "xz" to look at a cut in the x-z plane (pair it with a thin zoom box in y)."""
     import pyvista as pv
     pv.OFF_SCREEN = True
     d = read_markers(path)
@@ -129,17 +161,30 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
     h = float(np.median(vol) ** (1.0 / dim)) if len(vol) else 1.0
     p = pv.Plotter(off_screen=True, window_size=window)
     p.set_background("white")
-    key = {"ply": ply, "body": d["body"], "material": d["material"]}[color]
-    labels = {"ply": None, "body": d["body_names"], "material": d["material_names"]}[color]
+    if color == "damage":
+        if "damage" not in d:
+            raise SystemExit("plyshock plot: --color damage needs a run step with a damage field")
+        dm = d["damage"]
+        key = dm.max(axis=1) if dm.ndim == 2 else dm
+    else:
+        key = {"ply": ply, "body": d["body"], "material": d["material"]}[color]
+    labels = {"ply": None, "body": d["body_names"], "material": d["material_names"], "damage": None}[color]
     # categorical colours: one per ply (body, material), fixed by id so pictures compare
     from matplotlib import colormaps
     from matplotlib.colors import ListedColormap
-    ncat = int(key[lam].max()) + 1 if lam.any() else 1
-    base = colormaps["tab10"].colors
-    cmap = ListedColormap([base[i % 10] for i in range(ncat)])
-    names = labels or [f"{i}" for i in range(ncat)]
-    bar = {"title": color, "color": "black", "n_labels": 0, "n_colors": ncat}
-    notes = {float(i): f"{color} {names[i]}" for i in range(ncat)}
+    if color == "damage":
+        # continuous: undamaged blue to failed red
+        cmap, ncat, notes = "coolwarm", 2, None
+        bar = {"title": "damage (max of d_ft, d_fc, d_mt, d_mc)", "color": "black"}
+        clim = [0.0, 1.0]
+    else:
+        ncat = int(key[lam].max()) + 1 if lam.any() else 1
+        base = colormaps["tab10"].colors
+        cmap = ListedColormap([base[i % 10] for i in range(ncat)])
+        names = labels or [f"{i}" for i in range(ncat)]
+        bar = {"title": color, "color": "black", "n_labels": 0, "n_colors": ncat}
+        notes = {float(i): f"{color} {names[i]}" for i in range(ncat)}
+        clim = [-0.5, ncat - 0.5]
     if lam.any() and f"axis{axis}" in d:
         idx = np.flatnonzero(lam)[::max(1, every)]
         a = d[f"axis{axis}"][idx]
@@ -150,15 +195,15 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
         lines[1::2] = X[idx] + 0.45 * h * a
         mesh = pv.line_segments_from_points(lines)
         mesh.cell_data[color] = key[idx].astype(float)
-        p.add_mesh(mesh, scalars=color, cmap=cmap, clim=[-0.5, ncat - 0.5], line_width=2, show_scalar_bar=True,
+        p.add_mesh(mesh, scalars=color, cmap=cmap, clim=clim, line_width=2, show_scalar_bar=True,
                    scalar_bar_args=bar, annotations=notes)
         pts = pv.PolyData(X[idx])
         pts.point_data[color] = key[idx].astype(float)
-        p.add_mesh(pts, scalars=color, cmap=cmap, clim=[-0.5, ncat - 0.5], point_size=3, show_scalar_bar=False)
+        p.add_mesh(pts, scalars=color, cmap=cmap, clim=clim, point_size=3, show_scalar_bar=False)
     elif lam.any():
         pts = pv.PolyData(X[lam])
         pts.point_data[color] = key[lam].astype(float)
-        p.add_mesh(pts, scalars=color, cmap=cmap, clim=[-0.5, ncat - 0.5], point_size=4, scalar_bar_args=bar,
+        p.add_mesh(pts, scalars=color, cmap=cmap, clim=clim, point_size=4, scalar_bar_args=bar,
                    annotations=notes)
     if other.any():
         pts = pv.PolyData(X[other])
@@ -167,10 +212,14 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
         for b in np.unique(d["body"][other]):
             c = X[other & (d["body"] == b)].mean(axis=0)
             p.add_point_labels([c], [d["body_names"][b]], font_size=14, text_color="black", shape=None, show_points=False)
-    title = f"{path.split('/')[-1]}: {keep.sum()} markers, glyphs = material axis {axis}, colour = {color}"
+    t = d["attrs"].get("time")
+    title = (f"{path.split('/')[-1]}{f'  t = {t * 1e6:.2f} us' if t is not None else ''}: {keep.sum()} markers, "
+             f"glyphs = material axis {axis}, colour = {color}")
     p.add_text(title, font_size=10, color="black")
     if dim == 2:
         p.view_xy()
+    elif view == "xz":
+        p.view_xz()                     # x to the right, z up
     else:
         # look at the low-x, low-y faces: in a quarter model these are the
         # symmetry cuts, which show the plies in section
