@@ -51,7 +51,9 @@ def _parser():
     pl.add_argument("--axis", type=int, default=1, choices=(1, 2, 3), help="material axis drawn as glyphs (default 1, the fibre)")
     pl.add_argument("--bodies", help="comma-separated body names to draw (default: all)")
     pl.add_argument("--zoom", type=float, nargs="+", metavar="X", help="zoom box: x0 y0 x1 y1 (2D) or x0 y0 z0 x1 y1 z1 (3D), metres")
-    pl.add_argument("--color", default="ply", choices=("ply", "body", "material"), help="what colours the markers (default ply)")
+    pl.add_argument("--color", default="ply", choices=("ply", "body", "material", "damage"),
+                    help="what colours the glyphs (default ply; damage: a run step's largest ply damage)")
+    pl.add_argument("--view", choices=("xz",), help="3D: look at the x-z plane (a cut; pair with a thin --zoom slab in y)")
     pl.add_argument("--every", type=int, default=1, help="draw every n-th glyph (default 1)")
     pl.add_argument("--field", help="colour markers by a field of a run step instead of glyphs: pressure, stress (von Mises), "
                     "v (magnitude), energy, plastic_strain, temperature, damage, ...")
@@ -92,7 +94,7 @@ def main(argv=None):
         if args.cmd == "plot":
             from .post import plot_markers
             plot_markers(args.markers, args.png, axis=args.axis, bodies=args.bodies.split(",") if args.bodies else None,
-                         zoom=args.zoom, color=args.color, every=args.every)
+                         zoom=args.zoom, color=args.color, every=args.every, view=args.view)
             print(f"wrote {args.png}")
             return 0
         if args.cmd == "verify":
