@@ -100,6 +100,7 @@ typedef struct {
   PetscInt    history_interval;/* steps between history rows */
   PetscInt    progress_interval;/* steps between progress lines on rank 0 (0: every ~2 s of wall time) */
   PetscReal   dt_max;          /* s; 0 = none */
+  PetscBool   fbar;            /* cell-averaged volumetric rate (Delta-F-bar anti-locking) */
 } PSRunParams;
 
 /* Conserved totals, global (or one rank's booked removals). */
@@ -134,6 +135,9 @@ typedef struct {
   PetscInt       ngauge;         /* gauges: each follows one marker (its id) */
   PetscInt64    *gauge_id;
   PetscInt       ndamage;        /* damage components per marker (scene) */
+  PetscReal     *Lp;             /* scratch (fbar): each marker's velocity gradient, 9 reals */
+  PetscInt       cs[3], ce[3], ncell; /* owned cells [cs, ce) (fbar) */
+  PetscReal     *cell_V, *cell_trL;   /* per owned cell: sum V_p, sum V_p tr L_p (fbar) */
   PetscBool      has_ply;        /* the scene has laminates: markers carry a ply id */
 } PSSolver;
 

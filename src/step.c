@@ -89,6 +89,10 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
     for (d = 0; d < S->dim; d++) vc *= S->h[d];
     S->mass_min = S->run.mass_threshold * rmin * vc;
   }
+  PetscCall(PSCellOwnership(da, S->cs, S->ce));
+  S->ncell = 1;
+  for (d = 0; d < S->dim; d++) S->ncell *= S->ce[d] - S->cs[d];
+  if (S->run.fbar) PetscCall(PetscMalloc2(PetscMax(S->ncell, 1), &S->cell_V, PetscMax(S->ncell, 1), &S->cell_trL));
   *out = S;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -108,6 +112,8 @@ PetscErrorCode PSSolverDestroy(PSSolver **S)
   PetscCall(PetscFree((*S)->mat));
   PetscCall(PetscFree((*S)->dx));
   PetscCall(PetscFree((*S)->shape));
+  PetscCall(PetscFree((*S)->Lp));
+  if ((*S)->cell_V) PetscCall(PetscFree2((*S)->cell_V, (*S)->cell_trL));
   PetscCall(PetscFree((*S)->gauge_id));
   PetscCall(PetscFree(*S));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -141,6 +147,7 @@ PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
   PetscCall(PetscOptionsReal("-dt_growth", "largest dt_{n+1}/dt_n", "plyshock", r->dt_growth, &r->dt_growth, NULL));
   PetscCall(PetscOptionsReal("-dt_max", "largest time step (s); 0: none", "plyshock", r->dt_max, &r->dt_max, NULL));
   PetscCall(PetscOptionsReal("-mass_threshold", "nodes lighter than this share of a full cell carry no velocity", "plyshock", r->mass_threshold, &r->mass_threshold, NULL));
+  PetscCall(PetscOptionsBool("-fbar", "average the volumetric strain rate over each cell (Delta-F-bar, against volumetric locking)", "plyshock", r->fbar, &r->fbar, NULL));
   PetscCall(PetscOptionsInt("-max_steps", "stop after this many steps (0: none)", "plyshock", r->max_steps, &r->max_steps, NULL));
   PetscCall(PetscOptionsInt("-history_interval", "steps between history rows", "plyshock", r->history_interval, &r->history_interval, NULL));
   PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
@@ -264,6 +271,69 @@ static inline void NodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
   }
 }
 
+/* L = sum_i v_i (x) grad N_ip at a marker from the ghosted nodal velocities,
+   accumulated in registers */
+static inline void VelocityGradient(PetscInt dim, const PSIndex *ix, const PetscReal *hv, const PSShape *sp, PetscReal L[3][3])
+{
+  const PSShape sh = *sp;
+  PetscInt      a, b, c, n3[3];
+  n3[0] = n3[1] = sh.n;
+  n3[2] = dim == 3 ? sh.n : 1;
+    {
+    /* L = sum_i v_i (x) grad N_ip, accumulated in registers */
+    PetscReal l00 = 0, l01 = 0, l02 = 0, l10 = 0, l11 = 0, l12 = 0, l20 = 0, l21 = 0, l22 = 0;
+    for (c = 0; c < n3[2]; c++)
+      for (b = 0; b < n3[1]; b++) {
+        const PetscReal  wyz = sh.w[1][b] * sh.w[2][c], dyz = sh.dw[1][b] * sh.w[2][c], wydz = sh.w[1][b] * sh.dw[2][c];
+        const PetscReal *hr  = &hv[dim * Lidx(ix, sh.i0[0], sh.i0[1] + b, sh.i0[2] + c)];
+        if (dim == 3)
+          for (a = 0; a < n3[0]; a++) {
+            const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz, g2 = sh.w[0][a] * wydz;
+            const PetscReal *vn = hr + 3 * a;
+            l00 += vn[0] * g0;
+            l01 += vn[0] * g1;
+            l02 += vn[0] * g2;
+            l10 += vn[1] * g0;
+            l11 += vn[1] * g1;
+            l12 += vn[1] * g2;
+            l20 += vn[2] * g0;
+            l21 += vn[2] * g1;
+            l22 += vn[2] * g2;
+          }
+        else
+          for (a = 0; a < n3[0]; a++) {
+            const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz;
+            const PetscReal *vn = hr + 2 * a;
+            l00 += vn[0] * g0;
+            l01 += vn[0] * g1;
+            l10 += vn[1] * g0;
+            l11 += vn[1] * g1;
+          }
+      }
+    L[0][0] = l00;
+    L[0][1] = l01;
+    L[0][2] = l02;
+    L[1][0] = l10;
+    L[1][1] = l11;
+    L[1][2] = l12;
+    L[2][0] = l20;
+    L[2][1] = l21;
+    L[2][2] = l22;
+  }
+}
+
+/* this rank's local index of the cell holding x (a marker's cell is owned here) */
+static inline PetscInt LocalCell(const PSSolver *S, const PetscReal *x)
+{
+  PetscInt d, k = 0;
+  for (d = S->dim - 1; d >= 0; d--) {
+    PetscInt c = (PetscInt)PetscFloorReal((x[d] - S->scene->lower[d]) / S->h[d]);
+    c = PetscMin(PetscMax(c, S->cs[d]), S->ce[d] - 1);
+    k = k * (S->ce[d] - S->cs[d]) + (c - S->cs[d]);
+  }
+  return k;
+}
+
 /* ---------------------------------------------------------- the step -- */
 
 /* wave speed + |v| over all markers (for the first dt and after restarts) */
@@ -324,9 +394,11 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   if (f.n > S->ncache) {
     PetscCall(PetscFree(S->dx));
     PetscCall(PetscFree(S->shape));
+    PetscCall(PetscFree(S->Lp));
     S->ncache = (PetscInt)(1.2 * f.n) + 16;
     PetscCall(PetscMalloc1(S->ncache * dim, &S->dx));
     PetscCall(PetscMalloc1(S->ncache, &S->shape));
+    if (S->run.fbar) PetscCall(PetscMalloc1(9 * S->ncache, &S->Lp));
   }
 
   /* 1. P2G: mass, momentum, internal force -(sigma - q I) grad N V */
@@ -489,53 +561,33 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   /* 5. velocity gradient, stress update; then move the markers */
   PetscCall(PetscLogEventBegin(EV_Stress, 0, 0, 0, 0));
   PetscCall(VecGetArrayRead(S->Hl, (const PetscScalar **)&hv));
+  if (S->run.fbar) {
+    /* Delta-F-bar (Coombs, Augarde et al. 2018; Uintah's pressure
+       stabilisation): each marker's volumetric rate is replaced by its cell's
+       volume-weighted mean, which removes the volumetric locking of
+       near-incompressible (plastic) flow.  A marker's cell at x^n is owned by
+       this rank (migration), so the means need no communication. */
+    PetscCall(PetscArrayzero(S->cell_V, S->ncell));
+    PetscCall(PetscArrayzero(S->cell_trL, S->ncell));
+    for (p = 0; p < f.n; p++) {
+      PetscReal     *Lp = &S->Lp[9 * p];
+      const PetscInt c  = LocalCell(S, &f.x[p * dim]);
+      VelocityGradient(dim, &ix, hv, &S->shape[p], (PetscReal(*)[3])Lp);
+      S->cell_V[c] += f.vol[p];
+      S->cell_trL[c] += f.vol[p] * (Lp[0] + Lp[4] + Lp[8]);
+    }
+    for (p = 0; p < f.n; p++) {
+      PetscReal     *Lp = &S->Lp[9 * p];
+      const PetscInt c  = LocalCell(S, &f.x[p * dim]);
+      const PetscReal shift = (S->cell_trL[c] / S->cell_V[c] - (Lp[0] + Lp[4] + Lp[8])) / dim;
+      for (d = 0; d < dim; d++) Lp[4 * d] += shift;
+    }
+  }
   for (p = 0; p < f.n; p++) {
     PetscReal     L[3][3] = {{0}}, J, cs, v2 = 0.0, hm = 0.0;
     PSMarkerState st = {NULL};
-    sh    = S->shape[p];
-    n3[0] = n3[1] = sh.n;
-    n3[2] = dim == 3 ? sh.n : 1;
-    {
-      /* L = sum_i v_i (x) grad N_ip, accumulated in registers */
-      PetscReal l00 = 0, l01 = 0, l02 = 0, l10 = 0, l11 = 0, l12 = 0, l20 = 0, l21 = 0, l22 = 0;
-      for (c = 0; c < n3[2]; c++)
-        for (b = 0; b < n3[1]; b++) {
-          const PetscReal  wyz = sh.w[1][b] * sh.w[2][c], dyz = sh.dw[1][b] * sh.w[2][c], wydz = sh.w[1][b] * sh.dw[2][c];
-          const PetscReal *hr  = &hv[dim * Lidx(&ix, sh.i0[0], sh.i0[1] + b, sh.i0[2] + c)];
-          if (dim == 3)
-            for (a = 0; a < n3[0]; a++) {
-              const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz, g2 = sh.w[0][a] * wydz;
-              const PetscReal *vn = hr + 3 * a;
-              l00 += vn[0] * g0;
-              l01 += vn[0] * g1;
-              l02 += vn[0] * g2;
-              l10 += vn[1] * g0;
-              l11 += vn[1] * g1;
-              l12 += vn[1] * g2;
-              l20 += vn[2] * g0;
-              l21 += vn[2] * g1;
-              l22 += vn[2] * g2;
-            }
-          else
-            for (a = 0; a < n3[0]; a++) {
-              const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz;
-              const PetscReal *vn = hr + 2 * a;
-              l00 += vn[0] * g0;
-              l01 += vn[0] * g1;
-              l10 += vn[1] * g0;
-              l11 += vn[1] * g1;
-            }
-        }
-      L[0][0] = l00;
-      L[0][1] = l01;
-      L[0][2] = l02;
-      L[1][0] = l10;
-      L[1][1] = l11;
-      L[1][2] = l12;
-      L[2][0] = l20;
-      L[2][1] = l21;
-      L[2][2] = l22;
-    }
+    if (S->run.fbar) PetscCall(PetscArraycpy(&L[0][0], &S->Lp[9 * p], 9));
+    else VelocityGradient(dim, &ix, hv, &S->shape[p], L);
     st.F     = &f.F[p * dim * dim];
     st.V0    = f.V0[p];
     st.vol   = &f.vol[p];

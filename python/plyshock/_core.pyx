@@ -95,6 +95,7 @@ cdef extern from "solver.h":
         PetscInt history_interval
         PetscInt progress_interval
         PetscReal dt_max
+        PetscBool fbar
     ctypedef struct PSPly:
         PetscReal C[36]
         PetscReal K_R, c2max
@@ -341,6 +342,7 @@ cdef class Solver:
         self.r.history_interval = run["history_interval"]
         self.r.progress_interval = run["progress_interval"]
         self.r.dt_max = run["dt_max"]
+        self.r.fbar = <PetscBool>(1 if run.get("fbar") else 0)
         CHK(PSRunParamsSetFromOptionsDM(da.dm, &self.r))
         mats = <PSMaterial *>calloc(max(1, len(materials)), sizeof(PSMaterial))
         try:
@@ -360,7 +362,7 @@ cdef class Solver:
     def run_params(self):
         return dict(t_end=self.r.t_end, cfl=self.r.cfl, shape=SHAPE_NAMES[self.r.shape], output_interval=self.r.output_interval,
                     c_linear=self.r.c_linear, c_quadratic=self.r.c_quadratic, pic_fraction=self.r.pic_fraction,
-                    max_steps=self.r.max_steps)
+                    max_steps=self.r.max_steps, fbar=bool(self.r.fbar))
 
     @property
     def time(self):

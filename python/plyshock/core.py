@@ -343,7 +343,8 @@ def run_to_c(run):
     return dict(t_end=run.t_end, cfl=run.cfl, shape=run.shape, output_interval=run.output_interval,
                 c_linear=av["c_linear"], c_quadratic=av["c_quadratic"], pic_fraction=run.pic_fraction,
                 dt_growth=run.dt_growth, mass_threshold=run.mass_threshold, max_steps=run.max_steps,
-                history_interval=run.history_interval, progress_interval=run.progress_interval, dt_max=run.dt_max)
+                history_interval=run.history_interval, progress_interval=run.progress_interval, dt_max=run.dt_max,
+                fbar=run.fbar)
 
 
 def make_solver(m, restart=None):

@@ -273,9 +273,10 @@ class Run:
     max_steps: int = 0
     history_interval: int = 10
     progress_interval: int = 0
+    fbar: bool = False                    # cell-averaged volumetric rate (Delta-F-bar; against locking in plastic flow)
 
     KEYS = ("t_end", "cfl", "shape", "output_interval", "artificial_viscosity", "pic_fraction", "dt_growth",
-            "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval")
+            "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval", "fbar")
 
     def validate(self, path="run"):
         self.t_end = number(self.t_end, f"{path}.t_end", 0, None, lo_open=True)
@@ -297,6 +298,8 @@ class Run:
         self.max_steps = number(self.max_steps, f"{path}.max_steps", 0, 10**12, integer=True)
         self.history_interval = number(self.history_interval, f"{path}.history_interval", 1, 10**9, integer=True)
         self.progress_interval = number(self.progress_interval, f"{path}.progress_interval", 0, 10**9, integer=True)
+        if not isinstance(self.fbar, bool):
+            raise DeckError(f"{path}.fbar", f"must be true or false, got {self.fbar!r}")
         return self
 
 
