@@ -42,7 +42,7 @@ PETSC_INTERN PetscErrorCode PSMarkerUpdate(const PSMaterial *, PetscInt dim, con
 PETSC_INTERN PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *, PetscReal *J, PetscReal *c);
 
 /* kinematics shared by the kernels (materials/update.c) */
-PETSC_INTERN PetscReal PSDeformationUpdate(PetscInt dim, const PetscReal L[3][3], PetscReal dt, const PetscReal *F, PetscReal Fn[3][3]);
+PETSC_INTERN PetscReal PSKinematics(PetscInt dim, const PetscReal L[3][3], PetscReal dt, PSMarkerState *, PetscReal Fn[3][3], PetscReal D[3][3], PetscReal *trD);
 PETSC_INTERN void      PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3]);
 PETSC_INTERN void      PSStressPack(PetscInt dim, const PetscReal S[3][3], PetscReal *v);
 PETSC_INTERN PetscErrorCode PSMarkerCheckJ(PetscReal J, PetscInt64 id, PetscInt material, PetscInt step, PetscReal t);

@@ -100,14 +100,11 @@ PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *M, PetscInt dim, cons
   PetscInt        i, j, k;
 
   PetscFunctionBeginUser;
-  /* 1. deformation gradient */
-  J     = PSDeformationUpdate(dim, L, dt, s->F, Fn);
+  /* 1. deformation gradient, volume, rate of deformation */
+  J     = PSKinematics(dim, L, dt, s, Fn, D, &trD);
   *Jout = J;
-  if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS); /* the caller names the marker */
-  for (i = 0; i < dim; i++)
-    for (j = 0; j < dim; j++) s->F[i * dim + j] = Fn[i][j];
-  *s->vol = J * s->V0;
-  rho     = M->rho0 / J;
+  if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS);
+  rho = M->rho0 / J;
 
   /* 2. axes a_k = R a_k^0 and the rate in material axes */
   PSPolarRotation(Fn, R);
@@ -117,9 +114,6 @@ PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *M, PetscInt dim, cons
       for (j = 0; j < 3; j++) A[k][i] += R[i][j] * s->axes0[3 * k + j];
       s->axes[3 * k + i] = A[k][i];
     }
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) D[i][j] = 0.5 * (L[i][j] + L[j][i]);
-  trD = D[0][0] + D[1][1] + D[2][2];
   ToMaterial(A, D, d, 2.0);
 
   /* 3. remainder stress s_r and the EOS's pressure p = Aeos + Beos e */

@@ -86,19 +86,29 @@ void PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3])
     for (j = 0; j < 3; j++) R[i][j] = X[i][j];
 }
 
-/* F_new = (I + dt L) F (F stored dim x dim, plane strain F_zz = 1); returns det F_new */
-PetscReal PSDeformationUpdate(PetscInt dim, const PetscReal L[3][3], PetscReal dt, const PetscReal *Fs, PetscReal Fn[3][3])
+/* Step 1 of every kernel: F_new = (I + dt L) F (stored dim x dim, plane strain
+   F_zz = 1), V = J V0, both stored only when J = det F_new > 0; D = sym L.
+   Returns J (the caller names a marker with J <= 0). */
+PetscReal PSKinematics(PetscInt dim, const PetscReal L[3][3], PetscReal dt, PSMarkerState *s, PetscReal Fn[3][3], PetscReal D[3][3], PetscReal *trD)
 {
-  PetscReal F[3][3];
+  PetscReal F[3][3], J;
   PetscInt  i, j, k;
   for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? Fs[i * dim + j] : (i == j ? 1.0 : 0.0);
+    for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? s->F[i * dim + j] : (i == j ? 1.0 : 0.0);
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) {
       Fn[i][j] = F[i][j];
       for (k = 0; k < 3; k++) Fn[i][j] += dt * L[i][k] * F[k][j];
+      D[i][j] = 0.5 * (L[i][j] + L[j][i]);
     }
-  return Det3(Fn);
+  *trD = D[0][0] + D[1][1] + D[2][2];
+  J    = Det3(Fn);
+  if (J > 0.0) {
+    for (i = 0; i < dim; i++)
+      for (j = 0; j < dim; j++) s->F[i * dim + j] = Fn[i][j];
+    *s->vol = J * s->V0;
+  }
+  return J;
 }
 
 /* A step that would invert a marker is an error naming it, never a silent NaN. */
@@ -136,18 +146,11 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
   PetscInt  i, j, k;
 
   PetscFunctionBeginUser;
-  /* 1. deformation gradient */
-  J     = PSDeformationUpdate(dim, L, dt, s->F, Fn);
+  /* 1. deformation gradient, volume, rate of deformation */
+  J     = PSKinematics(dim, L, dt, s, Fn, D, &trD);
   *Jout = J;
-  if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS); /* the caller names the marker */
-  for (i = 0; i < dim; i++)
-    for (j = 0; j < dim; j++) s->F[i * dim + j] = Fn[i][j];
-  *s->vol = J * s->V0;
-  rho     = M->rho0 / J;
-  /* rate of deformation */
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) D[i][j] = 0.5 * (L[i][j] + L[j][i]);
-  trD = D[0][0] + D[1][1] + D[2][2];
+  if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS);
+  rho = M->rho0 / J;
   for (i = 0; i < 3; i++) D[i][i] -= trD / 3.0; /* D' */
 
   /* 2-3. unrotated deviator with J2 return */
