@@ -103,6 +103,10 @@ def _check_impact(out, scene, projectile, v0, tmp):
         turn = np.array([np.degrees(np.arccos(min(1.0, abs(float(np.dot(a0[i], a)))))) for i, a, p in
                          zip(i1.tolist(), f1["markers/axis1"][...], ply) if p >= 0])
         assert turn.max() > 5.0
+        n1 = len(i1)
+    # ParaView's series describes the four damage variables as an N x 4 matrix
+    xdmf = open(os.path.join(tmp, "markers.xdmf")).read()
+    assert f'Name="damage" AttributeType="Matrix" Center="Node"><DataItem Dimensions="{n1} 4"' in xdmf
     return turn
 
 

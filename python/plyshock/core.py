@@ -411,7 +411,7 @@ def write_xdmf_series(outdir, dim, scene):
     for fn in sorted(glob.glob(os.path.join(outdir, "markers_*.h5"))):
         with h5py.File(fn, "r") as f:
             steps.append((os.path.basename(fn), float(f.attrs["time"]), len(f["markers/id"]),
-                          [k for k in f["markers"].keys()]))
+                          {k: f["markers"][k].shape for k in f["markers"].keys()}))
     grids = []
     for name, t, n, keys in steps:
         def item(path, dims, kind="Float", prec=8):
@@ -420,7 +420,9 @@ def write_xdmf_series(outdir, dim, scene):
         for k in keys:
             if k in ("x",):
                 continue
-            if k in ("mass", "volume", "pressure", "energy", "plastic_strain", "temperature", "damage"):
+            if k == "damage" and len(keys[k]) == 2:      # a ply's four damage variables
+                attrs.append(f'<Attribute Name="{k}" AttributeType="Matrix" Center="Node">{item("/markers/" + k, f"{n} {keys[k][1]}")}</Attribute>')
+            elif k in ("mass", "volume", "pressure", "energy", "plastic_strain", "temperature", "damage"):
                 attrs.append(f'<Attribute Name="{k}" AttributeType="Scalar" Center="Node">{item("/markers/" + k, n)}</Attribute>')
             elif k in ("id",):
                 attrs.append(f'<Attribute Name="{k}" AttributeType="Scalar" Center="Node">{item("/markers/" + k, n, "Int", 8)}</Attribute>')
