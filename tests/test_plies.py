@@ -252,3 +252,60 @@ def test_a_step_that_inverts_a_marker_is_an_error_naming_it():
     with pytest.raises(PETSc.Error) as e:
         core.drive_material(IM7, L, dt)
     assert "would reach J = det F" in str(e.value) and "at step 3" in str(e.value) and "marker 0" in str(e.value)
+
+
+PLY_DECK = {
+    "dimension": 2,
+    "grid": {"lower": [0, 0], "upper": [0.02, 0.01], "cells": [40, 20]},
+    "materials": [{"name": "cfrp", "preset": "IM7/8552"}, {"name": "steel", "preset": "4340-steel"}],
+    "bodies": [{"name": "plate", "subdivision": 2,
+                "laminate": {"frame": {"origin": [0.002, 0.006], "axis3": [0.00226, 0.00697], "plane13": [0.00297, 0.00574]},
+                             "size": [0.015], "layup": "[0/90]s", "ply_thickness": 0.5e-3, "ply_material": "cfrp"}},
+               {"name": "flyer", "material": "steel", "box": {"lower": [0.008, 0.0075], "upper": [0.012, 0.009]},
+                "velocity": [0, -300]}],
+    "run": {"t_end": 3.0e-6, "output_interval": 3.0e-6, "history_interval": 5},
+}
+
+
+def test_a_ply_run_is_the_same_on_1_2_and_3_ranks(tmpdir_mpi):
+    """`plyshock run` of an oblique [0/90]s plate struck by a flyer: the history,
+    each marker's damage and turned axes agree on 1, 2 and 3 ranks; the run
+    warns that 0.5 mm cells cannot spread the matrix-compression energy."""
+    import yaml
+    from conftest import run_cli
+    deck = os.path.join(tmpdir_mpi, "ply.yaml")
+    if COMM.rank == 0:
+        with open(deck, "w") as f:
+            f.write("# plyshock test deck; SI units\n" + yaml.safe_dump(PLY_DECK))
+    COMM.Barrier()
+    H, M = [], []
+    for k in (1, 2, 3):
+        out = os.path.join(tmpdir_mpi, f"o{k}")
+        rc, so, se = run_cli(["run", deck, "-o", out], ranks=k)
+        assert rc == 0, se
+        assert "warning: material cfrp: matrix compression fails at once" in so
+        H.append(np.genfromtxt(os.path.join(out, "history.csv"), delimiter=",", names=True))
+        with h5py.File(os.path.join(out, "markers_00001.h5"), "r") as f:
+            o = np.argsort(f["markers/id"][...])
+            M.append({k2: f[f"markers/{k2}"][...][o] for k2 in ("id", "damage", "axis1", "x")})
+    assert M[0]["damage"].max() > 0.0                  # the flyer fails plies
+    for h, m in zip(H[1:], M[1:]):
+        for k in h.dtype.names:
+            scale = np.abs(H[0]["py"]).max() if k in ("px", "py") else np.abs(H[0][k]).max() + 1e-300
+            assert np.max(np.abs(h[k] - H[0][k])) <= 1e-10 * scale, k
+        assert np.array_equal(m["id"], M[0]["id"])
+        assert np.abs(m["axis1"] - M[0]["axis1"]).max() <= 1e-9
+        assert np.abs(m["x"] - M[0]["x"]).max() <= 1e-12
+        # damage switches on thresholds: round-off can move one marker's step, never the picture
+        assert np.mean(np.abs(m["damage"] - M[0]["damage"]) > 1e-6) < 0.01
+
+
+def test_damage_regularisation_warnings():
+    """A mode whose fracture energy cannot be spread over a cell is named."""
+    from plyshock import Body, Box, Grid, Scene
+    def scene(h):
+        return Scene(2, Grid([0, 0], [0.01, 0.01], [round(0.01 / h)] * 2), [Material("cfrp", preset="IM7/8552")],
+                     [Body("b", box=Box([0.002, 0.002], [0.008, 0.008]), material="cfrp")]).validate()
+    w = core.damage_warnings(scene(1e-3))
+    assert len(w) == 1 and "matrix compression" in w[0] and "0.000358 m" in w[0]
+    assert core.damage_warnings(scene(0.1e-3)) == []
