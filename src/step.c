@@ -273,53 +273,49 @@ static inline void NodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
 
 /* L = sum_i v_i (x) grad N_ip at a marker from the ghosted nodal velocities,
    accumulated in registers */
-static inline void VelocityGradient(PetscInt dim, const PSIndex *ix, const PetscReal *hv, const PSShape *sp, PetscReal L[3][3])
+static inline void VelocityGradient(PetscInt dim, const PSIndex *ix, const PetscReal *hv, const PSShape *sh, PetscReal L[3][3])
 {
-  const PSShape sh = *sp;
-  PetscInt      a, b, c, n3[3];
-  n3[0] = n3[1] = sh.n;
-  n3[2] = dim == 3 ? sh.n : 1;
-    {
-    /* L = sum_i v_i (x) grad N_ip, accumulated in registers */
-    PetscReal l00 = 0, l01 = 0, l02 = 0, l10 = 0, l11 = 0, l12 = 0, l20 = 0, l21 = 0, l22 = 0;
-    for (c = 0; c < n3[2]; c++)
-      for (b = 0; b < n3[1]; b++) {
-        const PetscReal  wyz = sh.w[1][b] * sh.w[2][c], dyz = sh.dw[1][b] * sh.w[2][c], wydz = sh.w[1][b] * sh.dw[2][c];
-        const PetscReal *hr  = &hv[dim * Lidx(ix, sh.i0[0], sh.i0[1] + b, sh.i0[2] + c)];
-        if (dim == 3)
-          for (a = 0; a < n3[0]; a++) {
-            const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz, g2 = sh.w[0][a] * wydz;
-            const PetscReal *vn = hr + 3 * a;
-            l00 += vn[0] * g0;
-            l01 += vn[0] * g1;
-            l02 += vn[0] * g2;
-            l10 += vn[1] * g0;
-            l11 += vn[1] * g1;
-            l12 += vn[1] * g2;
-            l20 += vn[2] * g0;
-            l21 += vn[2] * g1;
-            l22 += vn[2] * g2;
-          }
-        else
-          for (a = 0; a < n3[0]; a++) {
-            const PetscReal  g0 = sh.dw[0][a] * wyz, g1 = sh.w[0][a] * dyz;
-            const PetscReal *vn = hr + 2 * a;
-            l00 += vn[0] * g0;
-            l01 += vn[0] * g1;
-            l10 += vn[1] * g0;
-            l11 += vn[1] * g1;
-          }
-      }
-    L[0][0] = l00;
-    L[0][1] = l01;
-    L[0][2] = l02;
-    L[1][0] = l10;
-    L[1][1] = l11;
-    L[1][2] = l12;
-    L[2][0] = l20;
-    L[2][1] = l21;
-    L[2][2] = l22;
-  }
+  const PetscInt n3[3] = {sh->n, sh->n, dim == 3 ? sh->n : 1};
+  PetscReal      l00 = 0, l01 = 0, l02 = 0, l10 = 0, l11 = 0, l12 = 0, l20 = 0, l21 = 0, l22 = 0;
+  PetscInt       a, b, c;
+
+  for (c = 0; c < n3[2]; c++)
+    for (b = 0; b < n3[1]; b++) {
+      const PetscReal  wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
+      const PetscReal *hr  = &hv[dim * Lidx(ix, sh->i0[0], sh->i0[1] + b, sh->i0[2] + c)];
+      if (dim == 3)
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal  g0 = sh->dw[0][a] * wyz, g1 = sh->w[0][a] * dyz, g2 = sh->w[0][a] * wydz;
+          const PetscReal *vn = hr + 3 * a;
+          l00 += vn[0] * g0;
+          l01 += vn[0] * g1;
+          l02 += vn[0] * g2;
+          l10 += vn[1] * g0;
+          l11 += vn[1] * g1;
+          l12 += vn[1] * g2;
+          l20 += vn[2] * g0;
+          l21 += vn[2] * g1;
+          l22 += vn[2] * g2;
+        }
+      else
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal  g0 = sh->dw[0][a] * wyz, g1 = sh->w[0][a] * dyz;
+          const PetscReal *vn = hr + 2 * a;
+          l00 += vn[0] * g0;
+          l01 += vn[0] * g1;
+          l10 += vn[1] * g0;
+          l11 += vn[1] * g1;
+        }
+    }
+  L[0][0] = l00;
+  L[0][1] = l01;
+  L[0][2] = l02;
+  L[1][0] = l10;
+  L[1][1] = l11;
+  L[1][2] = l12;
+  L[2][0] = l20;
+  L[2][1] = l21;
+  L[2][2] = l22;
 }
 
 /* this rank's local index of the cell holding x (a marker's cell is owned here) */
