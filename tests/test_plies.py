@@ -309,3 +309,29 @@ def test_damage_regularisation_warnings():
     w = core.damage_warnings(scene(1e-3))
     assert len(w) == 1 and "matrix compression" in w[0] and "0.000358 m" in w[0]
     assert core.damage_warnings(scene(0.1e-3)) == []
+
+
+def test_a_ply_run_restarts_bitwise(tmpdir_mpi):
+    """The checkpoint carries the ply state (material-axis stress, damage,
+    turned axes): a restart on the same rank count ends bitwise where the
+    uninterrupted run ends (the half run stops at an output time, where the
+    full run also stops)."""
+    import yaml
+    from conftest import run_cli
+    deck = os.path.join(tmpdir_mpi, "ply.yaml")
+    if COMM.rank == 0:
+        with open(deck, "w") as f:
+            d = dict(PLY_DECK, run=dict(PLY_DECK["run"], output_interval=1.5e-6))
+            f.write("# plyshock test deck; SI units\n" + yaml.safe_dump(d))
+    COMM.Barrier()
+    full, half, again = (os.path.join(tmpdir_mpi, k) for k in ("full", "half", "again"))
+    for args in (["-o", full], ["-o", half, "-run_t_end", "1.5e-6"],
+                 ["-o", again, "--restart", os.path.join(half, "checkpoint.h5")]):
+        rc, so, se = run_cli(["run", deck] + args, ranks=2)
+        assert rc == 0, se
+    with h5py.File(os.path.join(full, "checkpoint.h5"), "r") as a, h5py.File(os.path.join(again, "checkpoint.h5"), "r") as b:
+        ga, gb = a["checkpoint"], b["checkpoint"]
+        assert "stress_material" in ga and "damage" in ga and "axes" in ga
+        assert ga["damage"][...].max() > 0.0
+        for k in ga:
+            assert np.array_equal(ga[k][...], gb[k][...]), k
