@@ -144,6 +144,8 @@ def _check(scene):
         _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
     _print0(_table(scene, d))
     _print0(f"expected markers: {total}, {nbytes} bytes per marker, {total * nbytes / 2**20:.3f} MiB")
+    for w in core.damage_warnings(scene):
+        _print0(f"warning: {w}")
     return 0
 
 
