@@ -258,6 +258,32 @@ PetscErrorCode PSCountPieces(const PSScene *scene, const PetscInt cs[3], const P
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Markers in each slab k = k0, k0 + stride, ... < k1 of cells normal to axis
+   (counts[k] set, other entries untouched): the marker distribution the grid
+   partition balances (core.py), shared among ranks by the stride. */
+PetscErrorCode PSCountSlabs(const PSScene *scene, PetscInt axis, PetscInt k0, PetscInt k1, PetscInt stride, PetscInt64 counts[])
+{
+  PetscInt      k, b, maxply = 0, cs[3] = {0, 0, 0}, ce[3] = {1, 1, 1};
+  PetscInt64   *bp;
+  PSInsertStats st;
+
+  PetscFunctionBeginUser;
+  for (b = 0; b < scene->nbody; b++) maxply = PetscMax(maxply, scene->bodies[b].nply);
+  for (b = 0; b < scene->dim; b++) ce[b] = scene->cells[b];
+  PetscCall(PetscMalloc1(scene->nbody * (maxply + 1), &bp));
+  for (k = k0; k < k1; k += stride) {
+    PetscCall(PetscArrayzero(bp, scene->nbody * (maxply + 1)));
+    PetscCall(PetscMemzero(&st, sizeof(st)));
+    cs[axis] = k;
+    ce[axis] = k + 1;
+    PetscCall(InsertKernel(scene, cs, ce, NULL, bp, &st));
+    counts[k] = 0;
+    for (b = 0; b < scene->nbody * (maxply + 1); b++) counts[k] += bp[b];
+  }
+  PetscCall(PetscFree(bp));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Insert the scene's markers into the swarm (fields registered here), each on
    the rank that owns its cell. */
 PetscErrorCode PSInsertMarkers(const PSScene *scene, DM da, DM sw, PSInsertStats *st)

@@ -116,6 +116,7 @@ PETSC_EXTERN PetscErrorCode PSBodyDomainVolume(const PSScene *, PetscInt b, Pets
 PETSC_EXTERN PetscErrorCode PSInitializePackage(void);
 PETSC_EXTERN PetscErrorCode PSCountPieces(const PSScene *, const PetscInt cs[3], const PetscInt ce[3], PetscInt64 *n_body_ply);
 PETSC_EXTERN PetscErrorCode PSInsertMarkers(const PSScene *, DM da, DM sw, PSInsertStats *);
+PETSC_EXTERN PetscErrorCode PSCountSlabs(const PSScene *, PetscInt axis, PetscInt k0, PetscInt k1, PetscInt stride, PetscInt64 counts[]);
 
 /* markers (markers.c) */
 PETSC_EXTERN PetscErrorCode PSMarkersRegisterFields(const PSScene *, DM sw, PetscInt *bytes_per_marker);

@@ -68,6 +68,7 @@ cdef extern from "plyshock.h":
     PetscErrorCode PSBodyDomainVolume(const PSScene *, PetscInt, PetscReal *)
     PetscErrorCode PSInitializePackage()
     PetscErrorCode PSCountPieces(const PSScene *, const PetscInt *, const PetscInt *, PetscInt64 *)
+    PetscErrorCode PSCountSlabs(const PSScene *, PetscInt, PetscInt, PetscInt, PetscInt, PetscInt64 *)
     PetscErrorCode PSInsertMarkers(const PSScene *, PetscDM, PetscDM, PSInsertStats *)
     PetscErrorCode PSMarkersBytes(const PSScene *, PetscDM, PetscInt *)
     PetscErrorCode PSCellOwnership(PetscDM, PetscInt *, PetscInt *)
@@ -257,6 +258,13 @@ cdef class CScene:
             c1[i] = ce[i]
         if self.s.nbody:
             CHK(PSCountPieces(&self.s, c0, c1, &out[0, 0]))
+        return np.asarray(out)
+
+    def count_slabs(self, int axis, int k0, int stride):
+        """Markers per slab of cells normal to axis, for slabs k0, k0 + stride, ... (others 0)."""
+        cdef PetscInt64[::1] out = np.zeros(self.s.cells[axis], dtype=np.int64)
+        if self.s.nbody and k0 < self.s.cells[axis]:
+            CHK(PSCountSlabs(&self.s, axis, k0, self.s.cells[axis], stride, &out[0]))
         return np.asarray(out)
 
     def marker_bytes(self, DM sw=None):

@@ -139,8 +139,16 @@ def initialize(scene, cs=None, comm=None, restart=False):
     # nodes: cells + 1 plus PAD outside the domain on each side (shape functions
     # reach one cell out); dof = mass, momentum, force; stencil 2 for GIMP/B-splines
     dof = 1 + 2 * dim
-    da = PETSc.DMDA().create(dim=dim, dof=dof, sizes=tuple(n + 1 + 2 * PAD for n in g.cells), stencil_width=2,
+    sizes = tuple(n + 1 + 2 * PAD for n in g.cells)
+    da = PETSc.DMDA().create(dim=dim, dof=dof, sizes=sizes, stencil_width=2,
                              stencil_type=PETSc.DMDA.StencilType.BOX, comm=comm)
+    ranges = balanced_ranges(cs, g.cells, da.getProcSizes()[:dim], comm.tompi4py())
+    if ranges is not None:
+        # the same process grid, its cuts moved so each rank holds a like share of markers
+        da.destroy()
+        da = PETSc.DMDA().create(dim=dim, dof=dof, sizes=sizes, proc_sizes=tuple(len(r) for r in ranges),
+                                 ownership_ranges=ranges, stencil_width=2,
+                                 stencil_type=PETSc.DMDA.StencilType.BOX, comm=comm)
     h = g.h
     da.setUniformCoordinates(*[v for a in range(dim) for v in (g.lower[a] - PAD * h[a], g.upper[a] + PAD * h[a])])
     sw = PETSc.DMSwarm().create(comm=comm)
@@ -155,6 +163,43 @@ def initialize(scene, cs=None, comm=None, restart=False):
     stats = cs.insert(da, sw)
     stats = {k: mpi.allreduce(v) for k, v in stats.items()}
     return Markers(scene, cs, da, sw, stats, cs.marker_bytes(sw), clipped)
+
+
+def balanced_ranges(cs, cells, procs, mpi, grid_weight=0.1, min_cells=3):
+    """DMDA node ownership ranges that balance the markers: along each split
+    direction, contiguous cell ranges of about equal weight, a cell slab
+    weighing its markers plus grid_weight per cell (the grid's share of a
+    step).  Slab counts are shared among the ranks (each counts every size-th
+    slab, exactly, in C) and summed; no rank counts the whole scene.  None
+    when nothing is split or the scene is too small to move the cuts."""
+    if all(P == 1 for P in procs):
+        return None
+    ranges = []
+    for a, (n, P) in enumerate(zip(cells, procs)):
+        if P == 1:
+            ranges.append((n + 1 + 2 * PAD,))
+            continue
+        if n < P * min_cells:
+            return None
+        counts = cs.count_slabs(a, mpi.rank, mpi.size)
+        from mpi4py import MPI
+        mpi.Allreduce(MPI.IN_PLACE, counts, op=MPI.SUM)
+        cross = int(np.prod([c for b, c in enumerate(cells) if b != a]))
+        w = np.cumsum(counts + grid_weight * cross)
+        # cut k after the slab where the cumulative weight passes k/P of the total
+        cuts = [0]
+        for k in range(1, P):
+            c = int(np.searchsorted(w, k * w[-1] / P)) + 1
+            c = min(max(c, cuts[-1] + min_cells), n - (P - k) * min_cells)
+            cuts.append(c)
+        cuts.append(n)
+        # cell c is node c + PAD; the first rank also holds the PAD nodes before
+        # the domain, the last the node after the last cell and the PAD after it
+        nodes = [cuts[k + 1] - cuts[k] for k in range(P)]
+        nodes[0] += PAD
+        nodes[-1] += 1 + PAD
+        ranges.append(tuple(nodes))
+    return tuple(ranges)
 
 
 def local_fields(m, names):
