@@ -41,6 +41,24 @@ typedef struct PSMarkerState_ {
 PETSC_INTERN PetscErrorCode PSMarkerUpdate(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *, PetscReal *J, PetscReal *c);
 PETSC_INTERN PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *, PetscReal *J, PetscReal *c);
 
+/* Y = Q X Q^T, or Q^T X Q when transpose: a tensor turned between frames
+   (inline: called per marker with a constant transpose) */
+static inline void PSTurn(const PetscReal Q[3][3], PetscBool transpose, const PetscReal X[3][3], PetscReal Y[3][3])
+{
+  PetscReal T[3][3];
+  PetscInt  i, j, k;
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) {
+      T[i][j] = 0.0;
+      for (k = 0; k < 3; k++) T[i][j] += X[i][k] * (transpose ? Q[k][j] : Q[j][k]);
+    }
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) {
+      Y[i][j] = 0.0;
+      for (k = 0; k < 3; k++) Y[i][j] += (transpose ? Q[k][i] : Q[i][k]) * T[k][j];
+    }
+}
+
 /* kinematics shared by the kernels (materials/update.c) */
 PETSC_INTERN PetscReal PSKinematics(PetscInt dim, const PetscReal L[3][3], PetscReal dt, PSMarkerState *, PetscReal Fn[3][3], PetscReal D[3][3], PetscReal *trD);
 PETSC_INTERN void      PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3]);

@@ -205,6 +205,9 @@ def test_run_input_errors():
     with pytest.raises(DeckError) as e:
         Run(t_end=1.0, shape="cubic").validate()
     assert e.value.path == "run.shape"
+    with pytest.raises(DeckError) as e:
+        Run(t_end=1.0, fbar="yes").validate()
+    assert e.value.path == "run.fbar"
 
 
 def test_verify_measures_errors_and_plots(tmpdir_mpi):

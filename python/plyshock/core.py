@@ -360,9 +360,7 @@ def drive_material(material, L, dt, axes=None, h=1.0e-3):
     size that regularises damage (m).  Returns dict of arrays per step: stress
     (n x 3 x 3 Pa), axes, damage (n x 4), pressure, energy, J."""
     from . import _core
-    if not isinstance(material, dict):
-        material = material_to_c(material, "material")
-    return _core.drive(material, np.eye(3) if axes is None else axes, L, dt, h)
+    return _core.drive(material_to_c(material, "material"), np.eye(3) if axes is None else axes, L, dt, h)
 
 
 def damage_warnings(scene):

@@ -44,27 +44,18 @@
 */
 #include "../materials.h"
 
-/* the ply's Voigt components of a symmetric 3x3 X in axes A: X^_kl = a_k . X a_l */
-static void ToMaterial(const PetscReal A[3][3], const PetscReal X[3][3], PetscReal v[6], PetscReal shear)
+/* a rate in the ply's axes A (rows a_k), Voigt with engineering shears:
+   d^_kl = a_k . D a_l */
+static void RateToMaterial(const PetscReal A[3][3], const PetscReal D[3][3], PetscReal v[6])
 {
-  PetscReal XA[3][3], Y[3][3];
-  PetscInt  i, j, k;
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      XA[i][j] = 0.0;
-      for (k = 0; k < 3; k++) XA[i][j] += X[i][k] * A[j][k];
-    }
-  for (i = 0; i < 3; i++)
-    for (j = i; j < 3; j++) {
-      Y[i][j] = 0.0;
-      for (k = 0; k < 3; k++) Y[i][j] += A[i][k] * XA[k][j];
-    }
+  PetscReal Y[3][3];
+  PSTurn(A, PETSC_FALSE, D, Y);
   v[0] = Y[0][0];
   v[1] = Y[1][1];
   v[2] = Y[2][2];
-  v[3] = shear * Y[1][2];
-  v[4] = shear * Y[0][2];
-  v[5] = shear * Y[0][1];
+  v[3] = 2.0 * Y[1][2];
+  v[4] = 2.0 * Y[0][2];
+  v[5] = 2.0 * Y[0][1];
 }
 
 /* degradation of the Voigt stress by the damage d (step 5); returns the
@@ -95,7 +86,7 @@ PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *M, PetscInt dim, cons
 {
   const PSPly    *P     = &M->ply;
   const PetscReal zero4[4] = {0, 0, 0, 0};
-  PetscReal       Fn[3][3], R[3][3], A[3][3], D[3][3], Sg[3][3], T3[3][3];
+  PetscReal       Fn[3][3], R[3][3], A[3][3], D[3][3], Sg[3][3];
   PetscReal       d[6], sr0[6], sr[6], sn0[6], sn[6], seff[6], dold[4], J, rho, trD, Aeos, Beos, c2, c, q, wdev = 0.0, p0 = *s->p, ptrial, p1, e1, f0, f1;
   PetscInt        i, j, k;
 
@@ -114,7 +105,7 @@ PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *M, PetscInt dim, cons
       for (j = 0; j < 3; j++) A[k][i] += R[i][j] * s->axes0[3 * k + j];
       s->axes[3 * k + i] = A[k][i];
     }
-  ToMaterial(A, D, d, 2.0);
+  RateToMaterial(A, D, d);
 
   /* 3. remainder stress s_r and the EOS's pressure p = Aeos + Beos e */
   for (i = 0; i < 6; i++) {
@@ -165,16 +156,7 @@ PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *M, PetscInt dim, cons
   Sg[1][2] = Sg[2][1] = sn[3];
   Sg[0][2] = Sg[2][0] = sn[4];
   Sg[0][1] = Sg[1][0] = sn[5];
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      T3[i][j] = 0.0;
-      for (k = 0; k < 3; k++) T3[i][j] += Sg[i][k] * A[k][j];
-    }
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      D[i][j] = 0.0;
-      for (k = 0; k < 3; k++) D[i][j] += A[k][i] * T3[k][j];
-    }
+  PSTurn(A, PETSC_TRUE, Sg, D);
   PSStressPack(dim, D, s->sig);
   *cout = c;
   PetscFunctionReturn(PETSC_SUCCESS);

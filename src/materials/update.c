@@ -140,7 +140,7 @@ PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e,
 
 PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
 {
-  PetscReal Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3], T3[3][3];
+  PetscReal Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3];
   PetscReal J, rho, trD, A, B, c2, c, q, wdev = 0.0, p0 = *s->p, p1, e1;
   PetscBool failed = (s->D && *s->D >= 1.0) ? PETSC_TRUE : PETSC_FALSE;
   PetscInt  i, j, k;
@@ -160,17 +160,7 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
     PetscReal seq2 = 0.0, Dd = 0.0, S0[3][3];
     for (i = 0; i < 3; i++)
       for (j = 0; j < 3; j++) S0[i][j] = S[i][j];
-    /* D~' = R^T D' R */
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) {
-        T3[i][j] = 0.0;
-        for (k = 0; k < 3; k++) T3[i][j] += D[i][k] * R[k][j];
-      }
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) {
-        Dt[i][j] = 0.0;
-        for (k = 0; k < 3; k++) Dt[i][j] += R[k][i] * T3[k][j];
-      }
+    PSTurn(R, PETSC_TRUE, D, Dt); /* D~' = R^T D' R */
     for (i = 0; i < 3; i++)
       for (j = 0; j < 3; j++) {
         S[i][j] += 2.0 * M->G * dt * Dt[i][j];
@@ -223,16 +213,7 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
   *s->q = q;
 
   /* 6. Cauchy stress sigma = R s~ R^T - p I */
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      T3[i][j] = 0.0;
-      for (k = 0; k < 3; k++) T3[i][j] += S[i][k] * R[j][k];
-    }
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      Dt[i][j] = 0.0;
-      for (k = 0; k < 3; k++) Dt[i][j] += R[i][k] * T3[k][j];
-    }
+  PSTurn(R, PETSC_FALSE, S, Dt);
   for (i = 0; i < 3; i++) Dt[i][i] -= p1;
   PSStressPack(dim, Dt, s->sig);
   *cout = PetscSqrtReal(c2 + 4.0 * M->G / (3.0 * rho));
