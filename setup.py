@@ -33,7 +33,7 @@ v = petsc_variables()
 includes = [p[2:] for p in v.get("PETSC_CC_INCLUDES", "").split() if p.startswith("-I")]
 libdirs = [p[2:] for p in v.get("PETSC_WITH_EXTERNAL_LIB", "").split() if p.startswith("-L")][:2]
 sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in (
-    "clip.c", "geom.c", "insert.c", "markers.c", "io.c", "step.c", "run.c", "checkpoint.c",
+    "clip.c", "geom.c", "insert.c", "markers.c", "io.c", "step.c", "halo.c", "run.c", "checkpoint.c",
     "materials/registry.c", "materials/eos_mie_gruneisen.c", "materials/eos_hypoelastic.c",
     "materials/strength.c", "materials/failure_johnson_cook.c", "materials/failure_hashin.c",
     "materials/update.c", "materials/orthotropic.c", "materials/driver.c")]

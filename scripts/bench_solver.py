@@ -11,7 +11,7 @@ import time
 
 import petsc4py
 
-petsc4py.init(sys.argv[:1] + [a for a in sys.argv[1:] if a.startswith("-")])
+petsc4py.init(sys.argv)
 from petsc4py import PETSc  # noqa: E402
 import numpy as np  # noqa: E402
 

@@ -59,10 +59,45 @@ static inline void PSTurn(const PetscReal Q[3][3], PetscBool transpose, const Pe
     }
 }
 
-/* kinematics shared by the kernels (materials/update.c) */
-PETSC_INTERN PetscReal PSKinematics(PetscInt dim, const PetscReal L[3][3], PetscReal dt, PSMarkerState *, PetscReal Fn[3][3], PetscReal D[3][3], PetscReal *trD);
+/* symmetric 3x3 -> stored components (3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy) */
+static inline void PSStressPack(const PetscInt dim, const PetscReal S[3][3], PetscReal *v)
+{
+  v[0] = S[0][0];
+  v[1] = S[1][1];
+  v[2] = S[2][2];
+  if (dim == 3) {
+    v[3] = 0.5 * (S[1][2] + S[2][1]);
+    v[4] = 0.5 * (S[0][2] + S[2][0]);
+    v[5] = 0.5 * (S[0][1] + S[1][0]);
+  } else v[3] = 0.5 * (S[0][1] + S[1][0]);
+}
+
+/* Step 1 of every kernel: F_new = (I + dt L) F (stored dim x dim, plane strain
+   F_zz = 1), V = J V0, both stored only when J = det F_new > 0; D = sym L.
+   Returns J (the caller names a marker with J <= 0).  Inline: the kernels
+   call it with a constant dim. */
+static inline PetscReal PSKinematics(const PetscInt dim, const PetscReal L[3][3], PetscReal dt, PSMarkerState *s, PetscReal Fn[3][3], PetscReal D[3][3], PetscReal *trD)
+{
+  PetscReal F[3][3], J;
+  PetscInt  i, j, k;
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? s->F[i * dim + j] : (i == j ? 1.0 : 0.0);
+  for (i = 0; i < 3; i++)
+    for (j = 0; j < 3; j++) {
+      Fn[i][j] = F[i][j];
+      for (k = 0; k < 3; k++) Fn[i][j] += dt * L[i][k] * F[k][j];
+      D[i][j] = 0.5 * (L[i][j] + L[j][i]);
+    }
+  *trD = D[0][0] + D[1][1] + D[2][2];
+  J    = Fn[0][0] * (Fn[1][1] * Fn[2][2] - Fn[1][2] * Fn[2][1]) - Fn[0][1] * (Fn[1][0] * Fn[2][2] - Fn[1][2] * Fn[2][0]) + Fn[0][2] * (Fn[1][0] * Fn[2][1] - Fn[1][1] * Fn[2][0]);
+  if (J > 0.0) {
+    for (i = 0; i < dim; i++)
+      for (j = 0; j < dim; j++) s->F[i * dim + j] = Fn[i][j];
+    *s->vol = J * s->V0;
+  }
+  return J;
+}
 PETSC_INTERN void      PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3]);
-PETSC_INTERN void      PSStressPack(PetscInt dim, const PetscReal S[3][3], PetscReal *v);
 PETSC_INTERN PetscErrorCode PSMarkerCheckJ(PetscReal J, PetscInt64 id, PetscInt material, PetscInt step, PetscReal t);
 PETSC_INTERN PetscReal PSViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic);
 PETSC_INTERN PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *, PetscReal J, PetscReal e, PetscReal p, PetscReal *c);

@@ -70,6 +70,7 @@ typedef struct {
   PetscBool  need_temperature;/* some material uses temperature (Johnson-Cook): temperature field */
   PetscInt   ndamage;         /* damage components per marker: 0 none, 1 Johnson-Cook failure, 4 ply failure (FT, FC, MT, MC) */
   PetscReal *T0;              /* initial temperature per material (K) */
+  PetscBool  need_affine;     /* run.transfer apic: markers carry the affine velocity C_p */
   PetscInt   nbody;
   PSBody    *bodies;
 } PSScene;
@@ -103,6 +104,7 @@ typedef struct {
 #define PS_FIELD_EPS_P    "plastic_strain" /* equivalent plastic strain (-) */
 #define PS_FIELD_TEMP     "temperature"    /* K */
 #define PS_FIELD_DAMAGE   "damage"         /* damage (-), failed at 1: Johnson-Cook D, or a ply's d_ft, d_fc, d_mt, d_mc */
+#define PS_FIELD_AFFINE   "affine"         /* APIC affine velocity C_p (1/s), dim x dim (row major); run.transfer apic only */
 #define PS_FIELD_SMAT     "stress_material" /* ply stress in material axes less the volumetric part, Voigt 11,22,33,23,13,12 (Pa); anisotropic scenes */
 #define PS_PAD 1 /* grid nodes outside the domain on each side (shape functions reach one cell out) */
 

@@ -38,11 +38,15 @@ static PetscErrorCode WriteGrid(PSSolver *S, PSRunIO *io, const char *fn)
   PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5Open(PetscObjectComm((PetscObject)S->da), fn, FILE_MODE_WRITE, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/grid"));
+  /* the step works on the local arrays: their owned values into the global vectors */
+  PetscCall(DMLocalToGlobal(S->daa ? S->daa : S->da, S->Gl, INSERT_VALUES, S->G));
+  if (S->H) PetscCall(DMLocalToGlobal(S->dav, S->Hl, INSERT_VALUES, S->H));
   PetscCall(VecStrideGather(S->G, 0, io->out1, INSERT_VALUES));
   PetscCall(PetscObjectSetName((PetscObject)io->out1, "mass"));
   PetscCall(VecView(io->out1, v));
   for (d = 0; d < S->dim; d++) {
-    PetscCall(VecStrideGather(S->H, d, io->out1, INSERT_VALUES));
+    /* nodal velocity: the re-projected one (musl) or v_i of G = (m, v) (apic) */
+    PetscCall(VecStrideGather(S->H ? S->H : S->G, S->H ? d : 1 + d, io->out1, INSERT_VALUES));
     PetscCall(PetscObjectSetName((PetscObject)io->out1, names[d]));
     PetscCall(VecView(io->out1, v));
   }
@@ -198,7 +202,7 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
   if (S->smax == 0.0) PetscCall(PSSolverMaxSpeed(S)); /* fresh start; a restart brings its own */
   /* the initial state: grid fields are empty until the first step */
   PetscCall(VecZeroEntries(S->G));
-  PetscCall(VecZeroEntries(S->H));
+  if (S->H) PetscCall(VecZeroEntries(S->H));
   PetscCall(Output(S, &io));
   PetscCall(History(S, &io));
   t_next_out = S->run.output_interval > 0 ? t_start + S->run.output_interval : S->run.t_end;

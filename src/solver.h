@@ -13,6 +13,20 @@
        stress update (materials.c), artificial viscosity q_p
     6. markers leaving the domain are removed and booked; the rest migrate to
        the rank owning their cell.
+  Transfer scheme apic (run.transfer): APIC (Jiang et al. 2015) in the MLS-MPM
+  form (Hu et al., ACM TOG 37, 2018), quadratic B-splines only (D_p = h^2/4 I):
+    1. P2G       m_i = sum_p N_ip m_p,
+                 (mv)_i = sum_p N_ip [m_p v_p + (m_p C_p - dt V_p (sigma_p - q_p I) D_p^-1)(x_i - x_p)]
+                 (momentum, affine velocity and the internal force dt f_i in one pass)
+    2. grid      v_i = (mv)_i / m_i, boundary conditions per face
+    3. G2P       v_p = sum_i N_ip v_i,  C_p = sum_i N_ip v_i (x_i - x_p)^T D_p^-1,
+                 x_p += dt v_p
+    4. L_p = C_p (the MLS velocity gradient, consistent with the force), then
+       step 5 and 6 as above.
+  One transfer each way and 1 + dim values per node instead of 2 (1 + 2 dim)
+  and dim: about half the grid traffic of MUSL.  Linear and angular momentum are
+  conserved by the transfers; energy is lost in non-affine modes like PIC.
+
   Single velocity field: bodies and plies that touch stay bonded (no contact
   algorithm, no delamination).
 
@@ -29,6 +43,12 @@ typedef enum {
   PS_SHAPE_BSPLINE2
 } PSShapeType;
 PETSC_EXTERN const char *const PSShapeTypes[];
+
+typedef enum {
+  PS_TRANSFER_MUSL,
+  PS_TRANSFER_APIC
+} PSTransferType;
+PETSC_EXTERN const char *const PSTransferTypes[];
 
 typedef enum {
   PS_BC_FREE,
@@ -91,6 +111,7 @@ typedef struct {
   PetscReal   t_end;           /* s */
   PetscReal   cfl;             /* - */
   PSShapeType shape;
+  PSTransferType transfer;     /* musl (default) or apic (bspline2 only) */
   PetscReal   output_interval; /* s; 0 = only the end */
   PetscReal   c_linear, c_quadratic; /* artificial viscosity coefficients */
   PetscReal   pic_fraction;    /* PIC share of the velocity update (0 = FLIP) */
@@ -117,9 +138,11 @@ typedef struct {
   PSMaterial    *mat;            /* scene->nmaterial */
   PSBCType       bc[3][2];       /* per direction, lower and upper face */
   DM             da;             /* grid: dof = 1 + 2 dim (m, mv, f), PS_PAD nodes outside the domain */
-  DM             dav;            /* the same grid with dof = dim (re-projected velocity) */
+  DM             dav;            /* the same grid with dof = dim (re-projected velocity; musl) */
+  DM             daa;            /* the same grid with dof = 1 + dim (m, mv then v; apic) */
   DM             sw;             /* markers */
-  Vec            G, Gl, H, Hl;   /* grid vectors: global and ghosted local */
+  Vec            G, Gl, H, Hl;   /* grid vectors: global (output) and ghosted local (the step) (musl: G on da, H on dav; apic: G on daa) */
+  PetscSF        sfg, sfh;       /* ghost exchange of Gl and Hl (halo.c) */
   PetscInt       dim, pad;
   PetscReal      h[3];           /* cell size (m) */
   PetscReal      t, dt;          /* s */
@@ -139,6 +162,8 @@ typedef struct {
   PetscInt       cs[3], ce[3], ncell; /* owned cells [cs, ce) (fbar) */
   PetscReal     *cell_V, *cell_trL;   /* per owned cell: sum V_p, sum V_p tr L_p (fbar) */
   PetscBool      has_ply;        /* the scene has laminates: markers carry a ply id */
+  PetscInt       zbox[3][2];     /* DMDA nodes [lo, hi) the last step wrote: the grid vectors are zero outside */
+  PetscBool      zall;           /* zero the grid vectors whole before the next step */
 } PSSolver;
 
 PETSC_EXTERN PetscErrorCode PSSolverCreate(const PSScene *, DM da, DM sw, const PSRunParams *, const PSMaterial *, const PetscInt bc[6], PSSolver **);
@@ -153,6 +178,9 @@ PETSC_EXTERN PetscErrorCode PSSolverRun(PSSolver *, const char outdir[], PetscIn
 PETSC_EXTERN PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt n, const PetscInt64 ids[]);
 PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
+PETSC_INTERN PetscErrorCode PSHaloCreate(PSSolver *, PetscInt dof, PetscSF *);
+PETSC_INTERN PetscErrorCode PSHaloReduce(PetscSF, PetscReal *);
+PETSC_INTERN PetscErrorCode PSHaloBcast(PetscSF, PetscReal *);
 PETSC_EXTERN PetscErrorCode PSMaterialInit(PSMaterial *, const char eos[], const char strength[], const char failure[]);
 PETSC_EXTERN PetscErrorCode PSMaterialDrive(const PSMaterial *, const PetscReal axes0[9], PetscInt nsteps, const PetscReal L[], PetscReal dt, PetscReal h, PetscReal sig[], PetscReal axes[], PetscReal dmg[], PetscReal pe[]);
 

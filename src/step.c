@@ -9,7 +9,8 @@
 #include "materials.h"
 #include "shape.h"
 
-const char *const PSShapeTypes[] = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
+const char *const PSShapeTypes[]    = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
+const char *const PSTransferTypes[] = {"musl", "apic", "PSTransferType", "PS_TRANSFER_", NULL};
 
 static PetscLogEvent EV_P2G, EV_Grid, EV_G2P, EV_Reproject, EV_Stress, EV_Migrate, EV_Dt;
 
@@ -78,11 +79,23 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
     S->lx[d][0] = 0;
     for (r = 0; r < S->nproc[d]; r++) S->lx[d][r + 1] = S->lx[d][r] + (d < S->dim ? l[d][r] : 1);
   }
-  PetscCall(DMDACreateCompatibleDMDA(da, S->dim, &S->dav));
-  PetscCall(DMCreateGlobalVector(da, &S->G));
-  PetscCall(DMCreateLocalVector(da, &S->Gl));
-  PetscCall(DMCreateGlobalVector(S->dav, &S->H));
-  PetscCall(DMCreateLocalVector(S->dav, &S->Hl));
+  if (S->run.transfer == PS_TRANSFER_APIC) {
+    /* MLS-MPM's D_p = h^2/4 I holds for quadratic B-splines only */
+    PetscCheck(S->run.shape == PS_SHAPE_BSPLINE2, PetscObjectComm((PetscObject)da), PETSC_ERR_ARG_INCOMP, "run.transfer apic needs run.shape bspline2, got %s", PSShapeTypes[S->run.shape]);
+    PetscCheck(scene->need_affine, PetscObjectComm((PetscObject)da), PETSC_ERR_ARG_INCOMP, "run.transfer apic: the markers were made without the affine field (initialise the scene with transfer apic)");
+    PetscCall(DMDACreateCompatibleDMDA(da, 1 + S->dim, &S->daa));
+    PetscCall(DMCreateGlobalVector(S->daa, &S->G));
+    PetscCall(DMCreateLocalVector(S->daa, &S->Gl));
+    PetscCall(PSHaloCreate(S, 1 + S->dim, &S->sfg));
+  } else {
+    PetscCall(DMDACreateCompatibleDMDA(da, S->dim, &S->dav));
+    PetscCall(DMCreateGlobalVector(da, &S->G));
+    PetscCall(DMCreateLocalVector(da, &S->Gl));
+    PetscCall(DMCreateGlobalVector(S->dav, &S->H));
+    PetscCall(DMCreateLocalVector(S->dav, &S->Hl));
+    PetscCall(PSHaloCreate(S, 1 + 2 * S->dim, &S->sfg));
+    PetscCall(PSHaloCreate(S, S->dim, &S->sfh));
+  }
   {
     PetscReal rmin = PETSC_MAX_REAL, vc = 1.0;
     for (d = 0; d < scene->nmaterial; d++) rmin = PetscMin(rmin, mats[d].rho0);
@@ -92,6 +105,7 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
   PetscCall(PSCellOwnership(da, S->cs, S->ce));
   S->ncell = 1;
   for (d = 0; d < S->dim; d++) S->ncell *= S->ce[d] - S->cs[d];
+  S->zall = PETSC_TRUE;
   if (S->run.fbar) PetscCall(PetscMalloc2(PetscMax(S->ncell, 1), &S->cell_V, PetscMax(S->ncell, 1), &S->cell_trL));
   *out = S;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -109,6 +123,9 @@ PetscErrorCode PSSolverDestroy(PSSolver **S)
   PetscCall(VecDestroy(&(*S)->H));
   PetscCall(VecDestroy(&(*S)->Hl));
   PetscCall(DMDestroy(&(*S)->dav));
+  PetscCall(DMDestroy(&(*S)->daa));
+  PetscCall(PetscSFDestroy(&(*S)->sfg));
+  PetscCall(PetscSFDestroy(&(*S)->sfh));
   PetscCall(PetscFree((*S)->mat));
   PetscCall(PetscFree((*S)->dx));
   PetscCall(PetscFree((*S)->shape));
@@ -133,13 +150,14 @@ PetscErrorCode PSSolverSetGauges(PSSolver *S, PetscInt n, const PetscInt64 ids[]
 /* Run options: the deck's values are the defaults, -run_<key> overrides. */
 PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
 {
-  PetscInt shape = r->shape;
+  PetscInt shape = r->shape, transfer = r->transfer;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, "run_", "plyshock run options (SI units)", "plyshock");
   PetscCall(PetscOptionsReal("-t_end", "end time (s)", "plyshock", r->t_end, &r->t_end, NULL));
   PetscCall(PetscOptionsReal("-cfl", "Courant number", "plyshock", r->cfl, &r->cfl, NULL));
   PetscCall(PetscOptionsEList("-shape", "shape functions", "plyshock", PSShapeTypes, 3, PSShapeTypes[shape], &shape, NULL));
+  PetscCall(PetscOptionsEList("-transfer", "transfer scheme", "plyshock", PSTransferTypes, 2, PSTransferTypes[transfer], &transfer, NULL));
   PetscCall(PetscOptionsReal("-output_interval", "time between outputs (s); 0: end only", "plyshock", r->output_interval, &r->output_interval, NULL));
   PetscCall(PetscOptionsReal("-c_linear", "linear artificial viscosity coefficient", "plyshock", r->c_linear, &r->c_linear, NULL));
   PetscCall(PetscOptionsReal("-c_quadratic", "quadratic artificial viscosity coefficient", "plyshock", r->c_quadratic, &r->c_quadratic, NULL));
@@ -152,10 +170,12 @@ PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
   PetscCall(PetscOptionsInt("-history_interval", "steps between history rows", "plyshock", r->history_interval, &r->history_interval, NULL));
   PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
   PetscOptionsEnd();
-  r->shape = (PSShapeType)shape;
+  r->shape    = (PSShapeType)shape;
+  r->transfer = (PSTransferType)transfer;
   PetscCheck(r->t_end > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.t_end %g must be > 0 s", (double)r->t_end);
   PetscCheck(r->cfl > 0 && r->cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.cfl %g must be in (0, 1]", (double)r->cfl);
   PetscCheck(r->pic_fraction >= 0 && r->pic_fraction <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.pic_fraction %g must be in [0, 1]", (double)r->pic_fraction);
+  PetscCheck(r->transfer == PS_TRANSFER_MUSL || r->pic_fraction == 0, comm, PETSC_ERR_ARG_INCOMP, "run.pic_fraction %g applies to run.transfer musl only (apic is a PIC-type transfer); set it to 0", (double)r->pic_fraction);
   PetscCheck(r->c_linear >= 0 && r->c_quadratic >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "artificial viscosity coefficients (%g, %g) must be >= 0", (double)r->c_linear, (double)r->c_quadratic);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -172,6 +192,7 @@ PetscErrorCode PSRunParamsSetFromOptionsDM(DM dm, PSRunParams *r)
 typedef struct {
   PetscReal *x, *v, *mass, *vol, *V0, *F, *sig, *sdev, *p, *q, *e, *eps_p, *T, *D;
   PetscReal *axes, *smat; /* anisotropic scenes */
+  PetscReal *C;           /* APIC affine velocity (transfer apic) */
   PetscInt  *mat, *body, *ply;
   PetscInt64 *id;
   PetscInt   n;
@@ -200,6 +221,7 @@ static PetscErrorCode FieldsGet(PSSolver *S, PSFields *f)
   if (S->scene->need_plastic) PetscCall(DMSwarmGetField(sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&f->eps_p));
   if (S->scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
   if (S->scene->ndamage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
+  if (S->scene->need_affine) PetscCall(DMSwarmGetField(sw, PS_FIELD_AFFINE, NULL, NULL, (void **)&f->C));
   if (S->scene->anisotropic) {
     PetscCall(DMSwarmGetField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&f->axes));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
@@ -214,6 +236,7 @@ static PetscErrorCode FieldsRestore(PSSolver *S, PSFields *f)
   DM sw = S->sw;
 
   PetscFunctionBeginUser;
+  if (f->C) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_AFFINE, NULL, NULL, (void **)&f->C));
   if (f->ply) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply));
   if (f->body) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body));
   if (f->smat) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
@@ -330,6 +353,91 @@ static inline PetscInt LocalCell(const PSSolver *S, const PetscReal *x)
   return k;
 }
 
+
+/* The nodes this step's transfers can touch, over all ranks: from each
+   marker's cell c the nodes c-1 .. c+2 in every direction (every shape
+   function), as DMDA indices [lo, hi).  Markers fill a small part of a
+   typical domain, so zeroing and the grid loops run on this box only. */
+static PetscErrorCode ActiveBox(PSSolver *S, const PSFields *f, PetscInt box[3][2])
+{
+  const PetscInt dim = S->dim;
+  PetscReal      buf[6], gbuf[6];
+  PetscInt       p, d;
+
+  PetscFunctionBeginUser;
+  for (d = 0; d < 6; d++) buf[d] = -PETSC_MAX_REAL;
+  for (p = 0; p < f->n; p++)
+    for (d = 0; d < dim; d++) {
+      buf[d]     = PetscMax(buf[d], -f->x[p * dim + d]);
+      buf[3 + d] = PetscMax(buf[3 + d], f->x[p * dim + d]);
+    }
+  PetscCallMPI(MPI_Allreduce(buf, gbuf, 6, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)S->sw)));
+  for (d = 0; d < 3; d++) {
+    if (d >= dim) {
+      box[d][0] = 0;
+      box[d][1] = 1;
+    } else if (-gbuf[d] > gbuf[3 + d]) { /* no markers */
+      box[d][0] = box[d][1] = 0;
+    } else {
+      const PetscInt n  = S->scene->cells[d];
+      PetscInt       cl = (PetscInt)PetscFloorReal((-gbuf[d] - S->scene->lower[d]) / S->h[d]);
+      PetscInt       ch = (PetscInt)PetscFloorReal((gbuf[3 + d] - S->scene->lower[d]) / S->h[d]);
+      cl        = PetscMin(PetscMax(cl, 0), n - 1);
+      ch        = PetscMin(PetscMax(ch, 0), n - 1);
+      box[d][0] = PetscMax(cl - 1 + S->pad, 0);
+      box[d][1] = PetscMin(ch + 3 + S->pad, n + 1 + 2 * S->pad);
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* box clipped to the array's corner s and size m (lo >= hi: empty) */
+static inline void Clip(const PetscInt box[3][2], const PetscInt s[3], const PetscInt m[3], PetscInt lo[3], PetscInt hi[3])
+{
+  PetscInt d;
+  for (d = 0; d < 3; d++) {
+    lo[d] = PetscMax(box[d][0], s[d]);
+    hi[d] = PetscMin(box[d][1], s[d] + m[d]);
+  }
+}
+
+/* zero the nodes of box in a dof-per-node array with corner s and size m */
+static PetscErrorCode ZeroBox(Vec v, PetscInt dof, const PetscInt s[3], const PetscInt m[3], const PetscInt box[3][2])
+{
+  PetscReal *a;
+  PetscInt   lo[3], hi[3], j, k;
+
+  PetscFunctionBeginUser;
+  if (!v) PetscFunctionReturn(PETSC_SUCCESS);
+  Clip(box, s, m, lo, hi);
+  if (hi[0] <= lo[0] || hi[1] <= lo[1] || hi[2] <= lo[2]) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(VecGetArray(v, &a));
+  for (k = lo[2]; k < hi[2]; k++)
+    for (j = lo[1]; j < hi[1]; j++) PetscCall(PetscArrayzero(&a[dof * (((k - s[2]) * m[1] + (j - s[1])) * m[0] + (lo[0] - s[0]))], dof * (hi[0] - lo[0])));
+  PetscCall(VecRestoreArray(v, &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Start of a step: zero what the last step wrote in the local grid arrays
+   (they are zero elsewhere), then note this step's box.  The step works on
+   the local arrays alone (halo.c); the global vectors serve output. */
+static PetscErrorCode GridReset(PSSolver *S, const PSIndex *ix, const PetscInt box[3][2])
+{
+  const PetscInt dim = S->dim, dofg = S->run.transfer == PS_TRANSFER_APIC ? 1 + dim : 1 + 2 * dim;
+
+  PetscFunctionBeginUser;
+  if (S->zall) {
+    PetscCall(VecZeroEntries(S->Gl));
+    if (S->Hl) PetscCall(VecZeroEntries(S->Hl));
+  } else {
+    PetscCall(ZeroBox(S->Gl, dofg, ix->gs, ix->gm, S->zbox));
+    PetscCall(ZeroBox(S->Hl, dim, ix->gs, ix->gm, S->zbox));
+  }
+  S->zall = PETSC_FALSE;
+  PetscCall(PetscArraycpy(&S->zbox[0][0], &box[0][0], 6));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* ---------------------------------------------------------- the step -- */
 
 /* wave speed + |v| over all markers (for the first dt and after restarts) */
@@ -371,41 +479,27 @@ static PetscErrorCode ComputeDt(PSSolver *S, PetscReal t_stop)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
+/* MUSL transfers (solver.h, steps 1-4): leaves the re-projected nodal
+   velocity in S->Hl and each marker's shape functions in S->shape */
+static PetscErrorCode TransferMUSL(PSSolver *S, PSFields *fp, const PSIndex *ixp, PetscReal dt)
 {
   const PetscInt  dim = S->dim, dof = 1 + 2 * dim;
   const PetscReal *lower = S->scene->lower;
-  PSIndex         ix;
-  PSFields        f;
+  const PSIndex   ix = *ixp;
+  PSFields        f  = *fp;
   PSShape         sh;
-  PetscReal      *g, *hv, smax = 0.0, dt;
-  PetscInt        p, d, e, a, b, c, n3[3];
-  MPI_Comm        comm = PetscObjectComm((PetscObject)S->sw);
+  PetscReal      *g, *hv;
+  PetscInt        p, d, e, a, b, c, n3[3], lo[3], hi[3];
 
   PetscFunctionBeginUser;
-  PetscCall(ComputeDt(S, t_stop));
-  dt = S->dt;
-  PetscCall(GetIndex(S->da, &ix));
-  PetscCall(FieldsGet(S, &f));
-  if (f.n > S->ncache) {
-    PetscCall(PetscFree(S->dx));
-    PetscCall(PetscFree(S->shape));
-    PetscCall(PetscFree(S->Lp));
-    S->ncache = (PetscInt)(1.2 * f.n) + 16;
-    PetscCall(PetscMalloc1(S->ncache * dim, &S->dx));
-    PetscCall(PetscMalloc1(S->ncache, &S->shape));
-    if (S->run.fbar) PetscCall(PetscMalloc1(9 * S->ncache, &S->Lp));
-  }
-
   /* 1. P2G: mass, momentum, internal force -(sigma - q I) grad N V */
   PetscCall(PetscLogEventBegin(EV_P2G, 0, 0, 0, 0));
-  PetscCall(VecZeroEntries(S->Gl));
   PetscCall(VecGetArray(S->Gl, &g));
   for (p = 0; p < f.n; p++) {
     const PetscReal *x = &f.x[p * dim], *v = &f.v[p * dim], m = f.mass[p], V = f.vol[p];
     PetscReal        s[3][3];
     ForceStress(dim, &f.sig[p * PSStressComponents(dim)], f.q[p], s);
-    PSShapeEval(S->run.shape, dim, lower, S->h, x, HalfSize(dim, f.V0[p]), &S->shape[p]);
+    PSShapeEval(S->run.shape, dim, lower, S->h, x, S->run.shape == PS_SHAPE_GIMP ? HalfSize(dim, f.V0[p]) : 0.0, &S->shape[p]);
     sh    = S->shape[p]; /* the step's transfers all use N_ip at x_p^n (MUSL) */
     n3[0] = n3[1] = sh.n;
     n3[2] = dim == 3 ? sh.n : 1;
@@ -435,20 +529,18 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
         }
     }
   }
-  PetscCall(VecRestoreArray(S->Gl, &g));
   PetscCall(PetscLogEventEnd(EV_P2G, 0, 0, 0, 0));
-  PetscCall(VecZeroEntries(S->G));
-  PetscCall(DMLocalToGlobal(S->da, S->Gl, ADD_VALUES, S->G));
+  PetscCall(PSHaloReduce(S->sfg, g));
 
   /* 2. grid: v_old = mv/m, v_new = v_old + dt f/m, boundary conditions;
         the node keeps [m, v_new, v_new - v_old] */
   PetscCall(PetscLogEventBegin(EV_Grid, 0, 0, 0, 0));
-  PetscCall(VecGetArray(S->G, &g));
-  for (c = 0; c < ix.om[2]; c++)
-    for (b = 0; b < ix.om[1]; b++)
-      for (a = 0; a < ix.om[0]; a++) {
+  Clip(S->zbox, ix.os, ix.om, lo, hi); /* owned nodes of the active box: no mass elsewhere */
+  for (c = lo[2] - ix.os[2]; c < hi[2] - ix.os[2]; c++)
+    for (b = lo[1] - ix.os[1]; b < hi[1] - ix.os[1]; b++)
+      for (a = lo[0] - ix.os[0]; a < hi[0] - ix.os[0]; a++) {
         const PetscInt ip[3] = {ix.os[0] + a - S->pad, ix.os[1] + b - S->pad, dim == 3 ? ix.os[2] + c - S->pad : 0};
-        PetscReal     *gn    = &g[dof * ((c * ix.om[1] + b) * ix.om[0] + a)], vo[3] = {0, 0, 0}, vn[3] = {0, 0, 0};
+        PetscReal     *gn    = &g[dof * Lidx(&ix, ix.os[0] + a, ix.os[1] + b, ix.os[2] + c)], vo[3] = {0, 0, 0}, vn[3] = {0, 0, 0};
         if (gn[0] > S->mass_min) {
           for (d = 0; d < dim; d++) {
             vo[d] = gn[1 + d] / gn[0];
@@ -461,16 +553,13 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
           gn[1 + dim + d] = vn[d] - vo[d];
         }
       }
-  PetscCall(VecRestoreArray(S->G, &g));
   PetscCall(PetscLogEventEnd(EV_Grid, 0, 0, 0, 0));
-  PetscCall(DMGlobalToLocal(S->da, S->G, INSERT_VALUES, S->Gl));
+  PetscCall(PSHaloBcast(S->sfg, g));
 
   /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new; dx_p = dt sum N v_new;
      4. and in the same pass the re-projection (mv)_i = sum_p N_ip m_p v_p^{n+1} */
   PetscCall(PetscLogEventBegin(EV_G2P, 0, 0, 0, 0));
-  PetscCall(VecZeroEntries(S->Hl));
   PetscCall(VecGetArray(S->Hl, &hv));
-  PetscCall(VecGetArrayRead(S->Gl, (const PetscScalar **)&g));
   for (p = 0; p < f.n; p++) {
     PetscReal      vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, mv[3];
     const PSShape *sp      = &S->shape[p];
@@ -527,19 +616,15 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
         }
       }
   }
-  PetscCall(VecRestoreArrayRead(S->Gl, (const PetscScalar **)&g));
-  PetscCall(VecRestoreArray(S->Hl, &hv));
   PetscCall(PetscLogEventEnd(EV_G2P, 0, 0, 0, 0));
 
   PetscCall(PetscLogEventBegin(EV_Reproject, 0, 0, 0, 0));
-  PetscCall(VecZeroEntries(S->H));
-  PetscCall(DMLocalToGlobal(S->dav, S->Hl, ADD_VALUES, S->H));
-  PetscCall(VecGetArray(S->H, &hv));
-  PetscCall(VecGetArrayRead(S->G, (const PetscScalar **)&g));
-  for (c = 0; c < ix.om[2]; c++)
-    for (b = 0; b < ix.om[1]; b++)
-      for (a = 0; a < ix.om[0]; a++) {
-        const PetscInt  o     = (c * ix.om[1] + b) * ix.om[0] + a;
+  PetscCall(PSHaloReduce(S->sfh, hv));
+  Clip(S->zbox, ix.os, ix.om, lo, hi); /* owned nodes of the active box: no mass elsewhere */
+  for (c = lo[2] - ix.os[2]; c < hi[2] - ix.os[2]; c++)
+    for (b = lo[1] - ix.os[1]; b < hi[1] - ix.os[1]; b++)
+      for (a = lo[0] - ix.os[0]; a < hi[0] - ix.os[0]; a++) {
+        const PetscInt  o     = Lidx(&ix, ix.os[0] + a, ix.os[1] + b, ix.os[2] + c);
         const PetscInt  ip[3] = {ix.os[0] + a - S->pad, ix.os[1] + b - S->pad, dim == 3 ? ix.os[2] + c - S->pad : 0};
         const PetscReal m     = g[dof * o];
         PetscReal       vn[3] = {0, 0, 0};
@@ -549,14 +634,213 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
         }
         for (d = 0; d < dim; d++) hv[dim * o + d] = vn[d];
       }
-  PetscCall(VecRestoreArrayRead(S->G, (const PetscScalar **)&g));
-  PetscCall(VecRestoreArray(S->H, &hv));
   PetscCall(PetscLogEventEnd(EV_Reproject, 0, 0, 0, 0));
-  PetscCall(DMGlobalToLocal(S->dav, S->H, INSERT_VALUES, S->Hl));
+  PetscCall(PSHaloBcast(S->sfh, hv));
+  PetscCall(VecRestoreArray(S->Hl, &hv));
+  PetscCall(VecRestoreArray(S->Gl, &g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* quadratic B-spline weights w and offsets r = x_i - x_p (m) per direction,
+   first node i0 (DMDA index); unused directions get w = (1, 0, 0), r = 0 */
+typedef struct {
+  PetscInt  i0[3];
+  PetscReal w[3][3], r[3][3];
+} PSBspline;
+
+static inline void BsplineEval(PetscInt dim, const PetscReal lower[], const PetscReal h[], const PetscReal x[], PSBspline *B)
+{
+  PetscInt d, a;
+  for (d = 0; d < 3; d++) {
+    if (d < dim) {
+      const PetscReal xi = (x[d] - lower[d]) / h[d], b = PetscFloorReal(xi - 0.5), fx = xi - b;
+      B->i0[d]   = (PetscInt)b + PS_PAD;
+      B->w[d][0] = 0.5 * (1.5 - fx) * (1.5 - fx);
+      B->w[d][1] = 0.75 - (fx - 1.0) * (fx - 1.0);
+      B->w[d][2] = 0.5 * (fx - 0.5) * (fx - 0.5);
+      for (a = 0; a < 3; a++) B->r[d][a] = (a - fx) * h[d];
+    } else {
+      B->i0[d]   = 0;
+      B->w[d][0] = 1.0;
+      B->w[d][1] = B->w[d][2] = 0.0;
+      for (a = 0; a < 3; a++) B->r[d][a] = 0.0;
+    }
+  }
+}
+
+/* APIC P2G in the MLS-MPM form (solver.h): per marker the affine matrix
+   Q = m_p C_p - dt V_p (sigma_p - q_p I) D_p^-1, D_p^-1 = diag(4/h^2), then per
+   node (m, m v + Q (x_i - x_p)) weighted by N_ip.  dim is a constant at each
+   call (always inlined: a 2D and a 3D kernel). */
+static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, const PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscReal *g)
+{
+  const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1, ns = PSStressComponents(dim);
+  PetscReal      Dinv[3];
+  PetscInt       p, d, e, a, b, c;
+
+  for (d = 0; d < 3; d++) Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
+  for (p = 0; p < f->n; p++) {
+    const PetscReal m = f->mass[p], V = f->vol[p], *Cp = &f->C[p * dim * dim];
+    PetscReal       s[3][3], Q[3][3], mv[3];
+    PSBspline       B;
+    BsplineEval(dim, S->scene->lower, S->h, &f->x[p * dim], &B);
+    ForceStress(dim, &f->sig[p * ns], f->q[p], s);
+    for (d = 0; d < dim; d++) {
+      mv[d] = m * f->v[p * dim + d];
+      for (e = 0; e < dim; e++) Q[d][e] = m * Cp[d * dim + e] - dt * V * s[d][e] * Dinv[e];
+    }
+    /* per row of 3 nodes along x: T = (m, m v + Q_.1 r_y + Q_.2 r_z), node a
+       adds w_a (T + r_x,a Qx) with Qx = (0, Q_.0): dof-wide multiply-adds */
+    for (c = 0; c < nz; c++)
+      for (b = 0; b < 3; b++) {
+        const PetscReal wyz = B.w[1][b] * B.w[2][c];
+        PetscReal       T[4], Qx[4], *gr = &g[dof * Lidx(ix, B.i0[0], B.i0[1] + b, B.i0[2] + c)];
+        T[0]  = m;
+        Qx[0] = 0.0;
+        for (d = 0; d < dim; d++) {
+          T[1 + d]  = mv[d] + Q[d][1] * B.r[1][b] + (dim == 3 ? Q[d][2] * B.r[2][c] : 0.0);
+          Qx[1 + d] = Q[d][0];
+        }
+        for (a = 0; a < 3; a++) {
+          const PetscReal w = B.w[0][a] * wyz, ra = B.r[0][a];
+          PetscReal      *gn = gr + dof * a;
+          for (e = 0; e < dof; e++) gn[e] += w * (T[e] + ra * Qx[e]);
+        }
+      }
+  }
+}
+
+/* APIC G2P: v_p = sum N v_i, C_p = sum N v_i (x_i - x_p)^T D^-1 (sums over a
+   row of nodes first: per node 2 dim multiply-adds), displacement dt v_p */
+static inline __attribute__((always_inline)) void G2PAPIC(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscReal *g)
+{
+  const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1;
+  PetscReal      Dinv[3];
+  PetscInt       p, d, e, a, b, c;
+
+  for (d = 0; d < 3; d++) Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
+  for (p = 0; p < f->n; p++) {
+    PetscReal v[4] = {0, 0, 0, 0}, Bm[3][4] = {{0}}; /* lane 1 + d: velocity component d; Bm[e][1 + d] = sum N v_d r_e */
+    PSBspline B;
+    BsplineEval(dim, S->scene->lower, S->h, &f->x[p * dim], &B);
+    for (c = 0; c < nz; c++)
+      for (b = 0; b < 3; b++) {
+        /* a row of 3 nodes: sw = sum_a w_a g_a, sx = sum_a w_a r_x,a g_a (dof wide, lane 0 the mass) */
+        const PetscReal  wyz = B.w[1][b] * B.w[2][c], ry = B.r[1][b], rz = B.r[2][c];
+        const PetscReal *gr  = &g[dof * Lidx(ix, B.i0[0], B.i0[1] + b, B.i0[2] + c)];
+        PetscReal        sw[4] = {0, 0, 0, 0}, sx[4] = {0, 0, 0, 0};
+        for (a = 0; a < 3; a++) {
+          const PetscReal  w = B.w[0][a] * wyz, wr = w * B.r[0][a];
+          const PetscReal *gn = gr + dof * a;
+          for (e = 0; e < dof; e++) {
+            sw[e] += w * gn[e];
+            sx[e] += wr * gn[e];
+          }
+        }
+        for (e = 0; e < dof; e++) {
+          v[e] += sw[e];
+          Bm[0][e] += sx[e];
+          Bm[1][e] += ry * sw[e];
+          Bm[2][e] += rz * sw[e];
+        }
+      }
+    for (d = 0; d < dim; d++) {
+      f->v[p * dim + d]  = v[1 + d];
+      S->dx[p * dim + d] = dt * v[1 + d];
+      for (e = 0; e < dim; e++) f->C[p * dim * dim + d * dim + e] = Bm[e][1 + d] * Dinv[e];
+    }
+  }
+}
+
+/* APIC transfers (solver.h): leaves each marker's v_p, C_p and displacement */
+static PetscErrorCode TransferAPIC(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
+{
+  const PetscInt dim = S->dim, dof = 1 + dim;
+  PetscReal     *g;
+  PetscInt       a, b, c, d, lo[3], hi[3];
+
+  PetscFunctionBeginUser;
+  /* 1. P2G: mass and momentum with the affine and force terms */
+  PetscCall(PetscLogEventBegin(EV_P2G, 0, 0, 0, 0));
+  PetscCall(VecGetArray(S->Gl, &g));
+  if (dim == 3) P2GAPIC(S, f, ix, dt, 3, g);
+  else P2GAPIC(S, f, ix, dt, 2, g);
+  PetscCall(PetscLogEventEnd(EV_P2G, 0, 0, 0, 0));
+  PetscCall(PSHaloReduce(S->sfg, g));
+
+  /* 2. grid: v_i = (mv)_i / m_i with the boundary conditions */
+  PetscCall(PetscLogEventBegin(EV_Grid, 0, 0, 0, 0));
+  Clip(S->zbox, ix->os, ix->om, lo, hi); /* owned nodes of the active box: no mass elsewhere */
+  for (c = lo[2] - ix->os[2]; c < hi[2] - ix->os[2]; c++)
+    for (b = lo[1] - ix->os[1]; b < hi[1] - ix->os[1]; b++)
+      for (a = lo[0] - ix->os[0]; a < hi[0] - ix->os[0]; a++) {
+        const PetscInt ip[3] = {ix->os[0] + a - S->pad, ix->os[1] + b - S->pad, dim == 3 ? ix->os[2] + c - S->pad : 0};
+        PetscReal     *gn    = &g[dof * Lidx(ix, ix->os[0] + a, ix->os[1] + b, ix->os[2] + c)], vn[3] = {0, 0, 0};
+        if (gn[0] > S->mass_min) {
+          for (d = 0; d < dim; d++) vn[d] = gn[1 + d] / gn[0];
+          NodeBC(S, ip, vn);
+        }
+        for (d = 0; d < dim; d++) gn[1 + d] = vn[d];
+      }
+  PetscCall(PetscLogEventEnd(EV_Grid, 0, 0, 0, 0));
+  PetscCall(PSHaloBcast(S->sfg, g));
+
+  /* 3. G2P: velocity, affine velocity, displacement */
+  PetscCall(PetscLogEventBegin(EV_G2P, 0, 0, 0, 0));
+  if (dim == 3) G2PAPIC(S, f, ix, dt, 3, g);
+  else G2PAPIC(S, f, ix, dt, 2, g);
+  PetscCall(VecRestoreArray(S->Gl, &g));
+  PetscCall(PetscLogEventEnd(EV_G2P, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* L_p: the MUSL gradient of the re-projected velocity, or APIC's C_p */
+static inline void MarkerL(const PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscReal *hv, PetscInt p, PetscReal L[3][3])
+{
+  const PetscInt dim = S->dim;
+  PetscInt       d, e;
+  if (f->C) {
+    for (d = 0; d < 3; d++)
+      for (e = 0; e < 3; e++) L[d][e] = (d < dim && e < dim) ? f->C[p * dim * dim + d * dim + e] : 0.0;
+  } else VelocityGradient(dim, ix, hv, &S->shape[p], L);
+}
+
+PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
+{
+  const PetscInt  dim = S->dim;
+  PSIndex         ix;
+  PSFields        f;
+  const PetscReal *hv = NULL;
+  PetscReal       smax = 0.0, dt;
+  PetscInt        p, d;
+  MPI_Comm        comm = PetscObjectComm((PetscObject)S->sw);
+
+  PetscFunctionBeginUser;
+  PetscCall(ComputeDt(S, t_stop));
+  dt = S->dt;
+  PetscCall(GetIndex(S->da, &ix));
+  PetscCall(FieldsGet(S, &f));
+  if (f.n > S->ncache) {
+    PetscCall(PetscFree(S->dx));
+    PetscCall(PetscFree(S->shape));
+    PetscCall(PetscFree(S->Lp));
+    S->ncache = (PetscInt)(1.2 * f.n) + 16;
+    PetscCall(PetscMalloc1(S->ncache * dim, &S->dx));
+    if (S->run.transfer == PS_TRANSFER_MUSL) PetscCall(PetscMalloc1(S->ncache, &S->shape));
+    if (S->run.fbar) PetscCall(PetscMalloc1(9 * S->ncache, &S->Lp));
+  }
+
+  {
+    PetscInt box[3][2];
+    PetscCall(ActiveBox(S, &f, box));
+    PetscCall(GridReset(S, &ix, box));
+  }
+  if (S->run.transfer == PS_TRANSFER_APIC) PetscCall(TransferAPIC(S, &f, &ix, dt));
+  else PetscCall(TransferMUSL(S, &f, &ix, dt));
 
   /* 5. velocity gradient, stress update; then move the markers */
   PetscCall(PetscLogEventBegin(EV_Stress, 0, 0, 0, 0));
-  PetscCall(VecGetArrayRead(S->Hl, (const PetscScalar **)&hv));
+  if (S->Hl) PetscCall(VecGetArrayRead(S->Hl, &hv));
   if (S->run.fbar) {
     /* Delta-F-bar (Coombs, Augarde et al. 2018; Uintah's pressure
        stabilisation): each marker's volumetric rate is replaced by its cell's
@@ -568,7 +852,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
     for (p = 0; p < f.n; p++) {
       PetscReal     *Lp = &S->Lp[9 * p];
       const PetscInt c  = LocalCell(S, &f.x[p * dim]);
-      VelocityGradient(dim, &ix, hv, &S->shape[p], (PetscReal(*)[3])Lp);
+      MarkerL(S, &f, &ix, hv, p, (PetscReal(*)[3])Lp);
       S->cell_V[c] += f.vol[p];
       S->cell_trL[c] += f.vol[p] * (Lp[0] + Lp[4] + Lp[8]);
     }
@@ -583,7 +867,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
     PetscReal     L[3][3] = {{0}}, J, cs, v2 = 0.0, hm = 0.0;
     PSMarkerState st = {NULL};
     if (S->run.fbar) PetscCall(PetscArraycpy(&L[0][0], &S->Lp[9 * p], 9));
-    else VelocityGradient(dim, &ix, hv, &S->shape[p], L);
+    else MarkerL(S, &f, &ix, hv, p, L);
     st.F     = &f.F[p * dim * dim];
     st.V0    = f.V0[p];
     st.vol   = &f.vol[p];
@@ -613,7 +897,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
     /* the viscous term tightens the CFL limit in compression (q / (rho c)) */
     smax = PetscMax(smax, cs + PetscSqrtReal(v2) + f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs, 1e-300)));
   }
-  PetscCall(VecRestoreArrayRead(S->Hl, (const PetscScalar **)&hv));
+  if (S->Hl) PetscCall(VecRestoreArrayRead(S->Hl, &hv));
   PetscCall(PetscLogEventEnd(EV_Stress, 0, 0, 0, 0));
   PetscCall(FieldsRestore(S, &f));
   PetscCallMPI(MPI_Allreduce(&smax, &S->smax, 1, MPIU_REAL, MPI_MAX, comm));

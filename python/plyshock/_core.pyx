@@ -55,6 +55,7 @@ cdef extern from "plyshock.h":
         PetscBool need_temperature
         PetscInt ndamage
         PetscReal *T0
+        PetscBool need_affine
         PetscInt nbody
         PSBody *bodies
     ctypedef struct PSInsertStats:
@@ -78,6 +79,9 @@ cdef extern from "plyshock.h":
     PetscErrorCode PSWriteMarkers(const PSScene *, PetscDM, const char *, PetscReal, PetscInt, const char **, const char **, const char **, const char **)
 
 cdef extern from "solver.h":
+    ctypedef enum PSTransferType:
+        PS_TRANSFER_MUSL
+        PS_TRANSFER_APIC
     ctypedef enum PSShapeType:
         PS_SHAPE_LINEAR
         PS_SHAPE_GIMP
@@ -86,6 +90,7 @@ cdef extern from "solver.h":
         PetscReal t_end
         PetscReal cfl
         PSShapeType shape
+        PSTransferType transfer
         PetscReal output_interval
         PetscReal c_linear
         PetscReal c_quadratic
@@ -177,6 +182,7 @@ cdef class CScene:
         self.s.need_plastic = PETSC_TRUE if spec.get("need_plastic") else PETSC_FALSE
         self.s.need_temperature = PETSC_TRUE if spec.get("need_temperature") else PETSC_FALSE
         self.s.ndamage = spec["ndamage"]
+        self.s.need_affine = PETSC_TRUE if spec.get("need_affine") else PETSC_FALSE
         T0 = spec.get("T0", [294.0] * len(dens))
         self.s.T0 = <PetscReal *>calloc(max(1, len(dens)), sizeof(PetscReal))
         for i in range(len(dens)):
@@ -323,6 +329,8 @@ def initialize():
 
 SHAPES = {"linear": PS_SHAPE_LINEAR, "gimp": PS_SHAPE_GIMP, "bspline2": PS_SHAPE_BSPLINE2}
 SHAPE_NAMES = {v: k for k, v in SHAPES.items()}
+TRANSFERS = {"musl": PS_TRANSFER_MUSL, "apic": PS_TRANSFER_APIC}
+TRANSFER_NAMES = {v: k for k, v in TRANSFERS.items()}
 
 
 cdef class Solver:
@@ -340,6 +348,7 @@ cdef class Solver:
         self.r.t_end = run["t_end"]
         self.r.cfl = run["cfl"]
         self.r.shape = SHAPES[run["shape"]]
+        self.r.transfer = TRANSFERS[run["transfer"]]
         self.r.output_interval = run["output_interval"]
         self.r.c_linear = run["c_linear"]
         self.r.c_quadratic = run["c_quadratic"]
@@ -368,7 +377,8 @@ cdef class Solver:
 
     @property
     def run_params(self):
-        return dict(t_end=self.r.t_end, cfl=self.r.cfl, shape=SHAPE_NAMES[self.r.shape], output_interval=self.r.output_interval,
+        return dict(t_end=self.r.t_end, cfl=self.r.cfl, shape=SHAPE_NAMES[self.r.shape],
+                    transfer=TRANSFER_NAMES[self.r.transfer], output_interval=self.r.output_interval,
                     c_linear=self.r.c_linear, c_quadratic=self.r.c_quadratic, pic_fraction=self.r.pic_fraction,
                     max_steps=self.r.max_steps, fbar=bool(self.r.fbar))
 

@@ -52,7 +52,21 @@ def scene_to_c(scene):
                 need_temperature=any((m.strength or {}).get("type") == "johnson-cook" for m in scene.materials),
                 ndamage=4 if any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
                 else 1 if any(m.failure is not None for m in scene.materials) else 0,
-                T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials])
+                T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials],
+                need_affine=transfer(scene) == "apic")
+
+
+def transfer(scene):
+    """The run's transfer scheme: the deck's, or -run_transfer (it decides
+    which marker fields exist, so it is read before the markers are made)."""
+    from petsc4py import PETSc
+    t = PETSc.Options().getString("run_transfer", scene.run.transfer if scene.run else "musl")
+    if t not in ("musl", "apic"):
+        raise DeckError("-run_transfer", f"must be one of musl|apic, got {t!r}")
+    shape = PETSc.Options().getString("run_shape", scene.run.shape if scene.run else "gimp")
+    if t == "apic" and shape != "bspline2":
+        raise DeckError("run.transfer", f"apic (MLS-MPM, D_p = h^2/4 I) needs run.shape bspline2, got {shape!r}")
+    return t
 
 
 def c_scene(scene):
@@ -383,7 +397,7 @@ def damage_warnings(scene):
 
 def run_to_c(run):
     av = run.artificial_viscosity
-    return dict(t_end=run.t_end, cfl=run.cfl, shape=run.shape, output_interval=run.output_interval,
+    return dict(t_end=run.t_end, cfl=run.cfl, shape=run.shape, transfer=run.transfer, output_interval=run.output_interval,
                 c_linear=av["c_linear"], c_quadratic=av["c_quadratic"], pic_fraction=run.pic_fraction,
                 dt_growth=run.dt_growth, mass_threshold=run.mass_threshold, max_steps=run.max_steps,
                 history_interval=run.history_interval, progress_interval=run.progress_interval, dt_max=run.dt_max,

@@ -256,6 +256,7 @@ class Cylinder:
 
 SHAPES = {"laminate": Laminate, "box": Box, "sphere": Sphere, "cylinder": Cylinder}
 SHAPE_FUNCTIONS = ("linear", "gimp", "bspline2")
+TRANSFERS = ("musl", "apic")
 
 
 @dataclass
@@ -264,6 +265,7 @@ class Run:
     t_end: float                          # s
     cfl: float = 0.4
     shape: str = "gimp"                   # linear | gimp | bspline2
+    transfer: str = "musl"                # musl (FLIP/PIC blend) | apic (MLS-MPM; bspline2 only)
     output_interval: float = 0.0          # s; 0 = initial and final states only
     artificial_viscosity: dict = field(default_factory=lambda: {"c_linear": 0.2, "c_quadratic": 2.0})
     pic_fraction: float = 0.0             # PIC share of the velocity update (0 = FLIP)
@@ -275,7 +277,7 @@ class Run:
     progress_interval: int = 0
     fbar: bool = False                    # cell-averaged volumetric rate (Delta-F-bar; against locking in plastic flow)
 
-    KEYS = ("t_end", "cfl", "shape", "output_interval", "artificial_viscosity", "pic_fraction", "dt_growth",
+    KEYS = ("t_end", "cfl", "shape", "transfer", "output_interval", "artificial_viscosity", "pic_fraction", "dt_growth",
             "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval", "fbar")
 
     def validate(self, path="run"):
@@ -283,6 +285,8 @@ class Run:
         self.cfl = number(self.cfl, f"{path}.cfl", 0, 1, lo_open=True)
         if self.shape not in SHAPE_FUNCTIONS:
             raise DeckError(f"{path}.shape", f"must be one of {'|'.join(SHAPE_FUNCTIONS)}, got {self.shape!r}")
+        if self.transfer not in TRANSFERS:
+            raise DeckError(f"{path}.transfer", f"must be one of {'|'.join(TRANSFERS)}, got {self.transfer!r}")
         self.output_interval = number(self.output_interval, f"{path}.output_interval", 0, None)
         av = dict(self.artificial_viscosity or {})
         check_keys(av, ("c_linear", "c_quadratic"), f"{path}.artificial_viscosity")
@@ -300,6 +304,10 @@ class Run:
         self.progress_interval = number(self.progress_interval, f"{path}.progress_interval", 0, 10**9, integer=True)
         if not isinstance(self.fbar, bool):
             raise DeckError(f"{path}.fbar", f"must be true or false, got {self.fbar!r}")
+        if self.transfer == "apic" and self.shape != "bspline2":
+            raise DeckError(f"{path}.transfer", f"apic (MLS-MPM, D_p = h^2/4 I) needs {path}.shape bspline2, got {self.shape!r}")
+        if self.transfer == "apic" and self.pic_fraction != 0:
+            raise DeckError(f"{path}.pic_fraction", f"applies to transfer musl only (apic is a PIC-type transfer): must be 0, got {self.pic_fraction}")
         return self
 
 

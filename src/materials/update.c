@@ -18,7 +18,7 @@
 #include "../materials.h"
 
 /* symmetric 3x3 <-> stored components (3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy) */
-static void Unpack(PetscInt dim, const PetscReal *v, PetscReal S[3][3])
+static inline void Unpack(const PetscInt dim, const PetscReal *v, PetscReal S[3][3])
 {
   S[0][0] = v[0];
   S[1][1] = v[1];
@@ -33,82 +33,38 @@ static void Unpack(PetscInt dim, const PetscReal *v, PetscReal S[3][3])
   }
 }
 
-void PSStressPack(PetscInt dim, const PetscReal S[3][3], PetscReal *v)
-{
-  v[0] = S[0][0];
-  v[1] = S[1][1];
-  v[2] = S[2][2];
-  if (dim == 3) {
-    v[3] = 0.5 * (S[1][2] + S[2][1]);
-    v[4] = 0.5 * (S[0][2] + S[2][0]);
-    v[5] = 0.5 * (S[0][1] + S[1][0]);
-  } else v[3] = 0.5 * (S[0][1] + S[1][0]);
-}
-
-static PetscReal Det3(const PetscReal A[3][3])
-{
-  return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-}
-
-/* R of F = R U: X <- (X + X^-T)/2 until it stops changing (Higham 1986) */
+/* R of F = R U: X <- (X + X^-T)/2 (Higham 1986).  The iteration converges
+   quadratically: once a step changes X by less than 1e-8 (sum of |changes|)
+   X is within ~1e-16 of R, so it stops there. */
 void PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3])
 {
   PetscReal X[3][3], C[3][3];
   PetscInt  it, i, j;
-  PetscBool last = PETSC_FALSE;
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) X[i][j] = F[i][j];
   for (it = 0; it < 40; it++) {
-    const PetscReal di = 1.0 / Det3(X);
-    PetscReal       diff = 0.0;
+    PetscReal di, diff = 0.0;
     /* X^-T = cofactor(X) / det X */
-    C[0][0] = (X[1][1] * X[2][2] - X[1][2] * X[2][1]) * di;
-    C[0][1] = -(X[1][0] * X[2][2] - X[1][2] * X[2][0]) * di;
-    C[0][2] = (X[1][0] * X[2][1] - X[1][1] * X[2][0]) * di;
-    C[1][0] = -(X[0][1] * X[2][2] - X[0][2] * X[2][1]) * di;
-    C[1][1] = (X[0][0] * X[2][2] - X[0][2] * X[2][0]) * di;
-    C[1][2] = -(X[0][0] * X[2][1] - X[0][1] * X[2][0]) * di;
-    C[2][0] = (X[0][1] * X[1][2] - X[0][2] * X[1][1]) * di;
-    C[2][1] = -(X[0][0] * X[1][2] - X[0][2] * X[1][0]) * di;
-    C[2][2] = (X[0][0] * X[1][1] - X[0][1] * X[1][0]) * di;
+    C[0][0] = X[1][1] * X[2][2] - X[1][2] * X[2][1];
+    C[0][1] = X[1][2] * X[2][0] - X[1][0] * X[2][2];
+    C[0][2] = X[1][0] * X[2][1] - X[1][1] * X[2][0];
+    C[1][0] = X[0][2] * X[2][1] - X[0][1] * X[2][2];
+    C[1][1] = X[0][0] * X[2][2] - X[0][2] * X[2][0];
+    C[1][2] = X[0][1] * X[2][0] - X[0][0] * X[2][1];
+    C[2][0] = X[0][1] * X[1][2] - X[0][2] * X[1][1];
+    C[2][1] = X[0][2] * X[1][0] - X[0][0] * X[1][2];
+    C[2][2] = X[0][0] * X[1][1] - X[0][1] * X[1][0];
+    di = 1.0 / (X[0][0] * C[0][0] + X[0][1] * C[0][1] + X[0][2] * C[0][2]);
     for (i = 0; i < 3; i++)
       for (j = 0; j < 3; j++) {
-        const PetscReal y = 0.5 * (X[i][j] + C[i][j]);
+        const PetscReal y = 0.5 * (X[i][j] + C[i][j] * di);
         diff += PetscAbsReal(y - X[i][j]);
         X[i][j] = y;
       }
-    /* quadratic convergence: once the change is below 1e-8 one more iteration
-       reaches round-off */
-    if (last) break;
-    if (diff < 1e-8) last = PETSC_TRUE;
+    if (diff < 1e-8) break;
   }
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) R[i][j] = X[i][j];
-}
-
-/* Step 1 of every kernel: F_new = (I + dt L) F (stored dim x dim, plane strain
-   F_zz = 1), V = J V0, both stored only when J = det F_new > 0; D = sym L.
-   Returns J (the caller names a marker with J <= 0). */
-PetscReal PSKinematics(PetscInt dim, const PetscReal L[3][3], PetscReal dt, PSMarkerState *s, PetscReal Fn[3][3], PetscReal D[3][3], PetscReal *trD)
-{
-  PetscReal F[3][3], J;
-  PetscInt  i, j, k;
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? s->F[i * dim + j] : (i == j ? 1.0 : 0.0);
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      Fn[i][j] = F[i][j];
-      for (k = 0; k < 3; k++) Fn[i][j] += dt * L[i][k] * F[k][j];
-      D[i][j] = 0.5 * (L[i][j] + L[j][i]);
-    }
-  *trD = D[0][0] + D[1][1] + D[2][2];
-  J    = Det3(Fn);
-  if (J > 0.0) {
-    for (i = 0; i < dim; i++)
-      for (j = 0; j < dim; j++) s->F[i * dim + j] = Fn[i][j];
-    *s->vol = J * s->V0;
-  }
-  return J;
 }
 
 /* A step that would invert a marker is an error naming it, never a silent NaN. */
@@ -138,7 +94,8 @@ PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e,
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
+/* the kernel's body, inlined with a constant dim (a 2D and a 3D kernel) */
+static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMaterial *M, const PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
 {
   PetscReal Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3];
   PetscReal J, rho, trD, A, B, c2, c, q, wdev = 0.0, p0 = *s->p, p1, e1;
@@ -218,4 +175,9 @@ PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal
   PSStressPack(dim, Dt, s->sig);
   *cout = PetscSqrtReal(c2 + 4.0 * M->G / (3.0 * rho));
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSMarkerUpdate(const PSMaterial *M, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
+{
+  return dim == 3 ? Update(M, 3, L, dt, h, c_linear, c_quadratic, s, Jout, cout) : Update(M, 2, L, dt, h, c_linear, c_quadratic, s, Jout, cout);
 }
