@@ -3,8 +3,10 @@
 3D, 64^3 cells on the unit cube, the middle third filled with 2 x 2 x 2 markers
 per cell (74,088 markers), quadratic B-splines, linear elastic (E 1e3, nu 0.3,
 rho 1), initial velocity 0.5 in x, dt = 0.3 h / (c + 1), 30 steps after a
-warm-up of 3.  Prints marker-steps per second per core and bytes per marker.
-The peer reference is ../shared/peers/taichi_mpm3d.py (run it right after).
+warm-up of 3, under each transfer scheme (run.transfer apic, the MLS-MPM form
+the peer uses, then musl).  Prints marker-steps per second per core and bytes
+per marker; the line RATE gives apic's, RATE_MUSL musl's.  The peer reference
+is ../shared/peers/taichi_mpm3d.py (scripts/bench runs it in the same script).
 """
 import sys
 import time
@@ -24,27 +26,38 @@ E, nu, rho = 1e3, 0.3, 1.0
 c = np.sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho))
 dt = 0.3 * h / (c + 1)
 lo = 21 * h + 0.0
-block = Body("block", box=Box([lo] * 3, [lo + 21 * h] * 3), material="el", velocity=[0.5, 0, 0], subdivision=2)
-scene = Scene(3, Grid([0, 0, 0], [1, 1, 1], [N] * 3), [Material("el", density=rho, elastic={"type": "isotropic", "E": E, "nu": nu})],
-              [block], Run(t_end=1.0, cfl=1.0, dt_max=dt, shape="bspline2", artificial_viscosity={"c_linear": 0, "c_quadratic": 0})).validate()
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
-m = core.initialize(scene)
-S = core.make_solver(m)
-for _ in range(3):
-    S.step()
-ts = []
-for _ in range(3):      # best of three 30-step runs: this machine's timings vary between runs
-    mpi.Barrier()
-    t = time.perf_counter()
-    for _ in range(30):
+
+
+def bench(transfer):
+    block = Body("block", box=Box([lo] * 3, [lo + 21 * h] * 3), material="el", velocity=[0.5, 0, 0], subdivision=2)
+    scene = Scene(3, Grid([0, 0, 0], [1, 1, 1], [N] * 3), [Material("el", density=rho, elastic={"type": "isotropic", "E": E, "nu": nu})],
+                  [block], Run(t_end=1.0, cfl=1.0, dt_max=dt, shape="bspline2", transfer=transfer,
+                               artificial_viscosity={"c_linear": 0, "c_quadratic": 0})).validate()
+    m = core.initialize(scene)
+    S = core.make_solver(m)
+    for _ in range(3):
         S.step()
-    mpi.Barrier()
-    ts.append(time.perf_counter() - t)
-t = min(ts)
-n = m.stats["markers"]
-if comm.getRank() == 0:
+    ts = []
+    for _ in range(3):      # best of three 30-step runs: this machine's timings vary between runs
+        mpi.Barrier()
+        t = time.perf_counter()
+        for _ in range(30):
+            S.step()
+        mpi.Barrier()
+        ts.append(time.perf_counter() - t)
+    t = min(ts)
+    n = m.stats["markers"]
     rate = n * 30 / t / comm.getSize()
-    print(f"solver benchmark (elastic block, bspline2, 64^3 cells, {n} markers, 30 steps): {comm.getSize()} rank(s)")
-    print(f"  best 30 steps {t:.3f} s: {rate / 1e6:.3f} M marker-steps/s/core, dt {dt:.3e} s, {m.bytes_per_marker} bytes per marker")
-    print(f"RATE {rate:.6e}")
+    if comm.getRank() == 0:
+        print(f"solver benchmark (elastic block, bspline2, transfer {transfer}, 64^3 cells, {n} markers, 30 steps): {comm.getSize()} rank(s)")
+        print(f"  best 30 steps {t:.3f} s: {rate / 1e6:.3f} M marker-steps/s/core, dt {dt:.3e} s, {m.bytes_per_marker} bytes per marker")
+    return rate
+
+
+apic, musl = bench("apic"), bench("musl")
+if comm.getRank() == 0:
+    print(f"  apic runs {apic / musl:.2f}x musl")
+    print(f"RATE {apic:.6e}")
+    print(f"RATE_MUSL {musl:.6e}")

@@ -27,6 +27,10 @@
   and dim: about half the grid traffic of MUSL.  Linear and angular momentum are
   conserved by the transfers; energy is lost in non-affine modes like PIC.
 
+  Grid: the step works on each rank's ghosted local arrays; ghost nodes' sums
+  go to their owners and the owners' values come back through a PetscSF
+  (halo.c); zeroing and grid loops cover only the nodes the markers reach.
+
   Single velocity field: bodies and plies that touch stay bonded (no contact
   algorithm, no delamination).
 

@@ -915,7 +915,8 @@ PetscErrorCode PSSolverMigrate(PSSolver *S)
 {
   const PetscInt dim = S->dim;
   PSFields       f;
-  PetscInt       p, d, *rank;
+  PetscInt       p, d, *rank, nmove = 0, gmove;
+  PetscMPIInt    me;
   PetscInt       nrm = 0, *rm = NULL;
 
   PetscFunctionBeginUser;
@@ -945,6 +946,7 @@ PetscErrorCode PSSolverMigrate(PSSolver *S)
   for (p = nrm - 1; p >= 0; p--) PetscCall(DMSwarmRemovePointAtIndex(S->sw, rm[p]));
   PetscCall(PetscFree(rm));
 
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)S->sw), &me));
   PetscCall(DMSwarmGetLocalSize(S->sw, &f.n));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&f.x));
   PetscCall(DMSwarmGetField(S->sw, DMSwarmField_rank, NULL, NULL, (void **)&rank));
@@ -958,10 +960,15 @@ PetscErrorCode PSSolverMigrate(PSSolver *S)
       r[d] = k;
     }
     rank[p] = r[0] + S->nproc[0] * (r[1] + S->nproc[1] * r[2]);
+    if (rank[p] != me) nmove++;
   }
   PetscCall(DMSwarmRestoreField(S->sw, DMSwarmField_rank, NULL, NULL, (void **)&rank));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&f.x));
-  PetscCall(DMSwarmMigrate(S->sw, PETSC_TRUE));
+  /* most steps move no marker across a rank boundary (a marker moves less
+     than a cell per step): then the swarm's exchange, with its collective
+     set-up, is skipped */
+  PetscCallMPI(MPI_Allreduce(&nmove, &gmove, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)S->sw)));
+  if (gmove > 0) PetscCall(DMSwarmMigrate(S->sw, PETSC_TRUE));
   PetscCall(PetscLogEventEnd(EV_Migrate, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
