@@ -5,7 +5,8 @@ per cell (74,088 markers), quadratic B-splines, linear elastic (E 1e3, nu 0.3,
 rho 1), initial velocity 0.5 in x, dt = 0.3 h / (c + 1), 30 steps after a
 warm-up of 3, under each transfer scheme (run.transfer apic, the MLS-MPM form
 the peer uses, then musl).  Prints marker-steps per second per core and bytes
-per marker; the line RATE gives apic's, RATE_MUSL musl's.  The peer reference
+per marker; the line RATE gives apic's, RATE_MUSL musl's (-bench_transfer
+apic|musl runs one of them).  The peer reference
 is ../shared/peers/taichi_mpm3d.py (scripts/bench runs it in the same script).
 """
 import sys
@@ -56,8 +57,14 @@ def bench(transfer):
     return rate
 
 
-apic, musl = bench("apic"), bench("musl")
+# -bench_transfer apic|musl: one scheme only (e.g. to read -log_view for it)
+only = PETSc.Options().getString("bench_transfer", "")
+apic = bench("apic") if only in ("", "apic") else None
+musl = bench("musl") if only in ("", "musl") else None
 if comm.getRank() == 0:
-    print(f"  apic runs {apic / musl:.2f}x musl")
-    print(f"RATE {apic:.6e}")
-    print(f"RATE_MUSL {musl:.6e}")
+    if apic and musl:
+        print(f"  apic runs {apic / musl:.2f}x musl")
+    if apic:
+        print(f"RATE {apic:.6e}")
+    if musl:
+        print(f"RATE_MUSL {musl:.6e}")

@@ -648,12 +648,12 @@ typedef struct {
   PetscReal w[3][3], r[3][3];
 } PSBspline;
 
-static inline void BsplineEval(PetscInt dim, const PetscReal lower[], const PetscReal h[], const PetscReal x[], PSBspline *B)
+static inline void BsplineEval(PetscInt dim, const PetscReal lower[], const PetscReal h[], const PetscReal ih[], const PetscReal x[], PSBspline *B)
 {
   PetscInt d, a;
   for (d = 0; d < 3; d++) {
     if (d < dim) {
-      const PetscReal xi = (x[d] - lower[d]) / h[d], b = PetscFloorReal(xi - 0.5), fx = xi - b;
+      const PetscReal xi = (x[d] - lower[d]) * ih[d], b = PetscFloorReal(xi - 0.5), fx = xi - b;
       B->i0[d]   = (PetscInt)b + PS_PAD;
       B->w[d][0] = 0.5 * (1.5 - fx) * (1.5 - fx);
       B->w[d][1] = 0.75 - (fx - 1.0) * (fx - 1.0);
@@ -689,15 +689,18 @@ static inline void Store4(PetscReal *p, PSv4 v)
 static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, const PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscReal *g)
 {
   const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1, ns = PSStressComponents(dim);
-  PetscReal      Dinv[3];
+  PetscReal      Dinv[3], ih[3];
   PetscInt       p, d, e, a, b, c;
 
-  for (d = 0; d < 3; d++) Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
+  for (d = 0; d < 3; d++) {
+    Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
+    ih[d]   = 1.0 / S->h[d];
+  }
   for (p = 0; p < f->n; p++) {
     const PetscReal m = f->mass[p], V = f->vol[p], *Cp = &f->C[p * dim * dim];
     PetscReal       s[3][3], Q[3][3], mv[3];
     PSBspline       B;
-    BsplineEval(dim, S->scene->lower, S->h, &f->x[p * dim], &B);
+    BsplineEval(dim, S->scene->lower, S->h, ih, &f->x[p * dim], &B);
     ForceStress(dim, &f->sig[p * ns], f->q[p], s);
     for (d = 0; d < dim; d++) {
       mv[d] = m * f->v[p * dim + d];
@@ -741,14 +744,17 @@ static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, con
 static inline __attribute__((always_inline)) void G2PAPIC(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscReal *g)
 {
   const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1;
-  PetscReal      Dinv[3];
+  PetscReal      Dinv[3], ih[3];
   PetscInt       p, d, e, a, b, c;
 
-  for (d = 0; d < 3; d++) Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
+  for (d = 0; d < 3; d++) {
+    Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
+    ih[d]   = 1.0 / S->h[d];
+  }
   for (p = 0; p < f->n; p++) {
     PetscReal v[4] = {0, 0, 0, 0}, Bm[3][4] = {{0}}; /* lane 1 + d: velocity component d; Bm[e][1 + d] = sum N v_d r_e */
     PSBspline B;
-    BsplineEval(dim, S->scene->lower, S->h, &f->x[p * dim], &B);
+    BsplineEval(dim, S->scene->lower, S->h, ih, &f->x[p * dim], &B);
     if (dim == 3) {
       /* the same, 4-wide */
       PSv4 vv = {0, 0, 0, 0}, B0 = {0, 0, 0, 0}, B1 = {0, 0, 0, 0}, B2 = {0, 0, 0, 0};
@@ -937,13 +943,13 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
     }
     for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
     PetscCall(S->mat[f.mat[p]].update_fn(&S->mat[f.mat[p]], dim, L, dt, hm, S->run.c_linear, S->run.c_quadratic, &st, &J, &cs));
-    PetscCall(PSMarkerCheckJ(J, f.id[p], f.mat[p], S->step + 1, S->t));
+    if (PetscUnlikely(J <= 0.0)) PetscCall(PSMarkerCheckJ(J, f.id[p], f.mat[p], S->step + 1, S->t));
     for (d = 0; d < dim; d++) {
       f.x[p * dim + d] += S->dx[p * dim + d];
       v2 += f.v[p * dim + d] * f.v[p * dim + d];
     }
     /* the viscous term tightens the CFL limit in compression (q / (rho c)) */
-    smax = PetscMax(smax, cs + PetscSqrtReal(v2) + f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs, 1e-300)));
+    smax = PetscMax(smax, cs + PetscSqrtReal(v2) + (f.q[p] > 0.0 ? f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs, 1e-300)) : 0.0));
   }
   if (S->Hl) PetscCall(VecRestoreArrayRead(S->Hl, &hv));
   PetscCall(PetscLogEventEnd(EV_Stress, 0, 0, 0, 0));
