@@ -3,7 +3,7 @@
 3D, 64^3 cells on the unit cube, the middle third filled with 2 x 2 x 2 markers
 per cell (74,088 markers), quadratic B-splines, linear elastic (E 1e3, nu 0.3,
 rho 1), initial velocity 0.5 in x, dt = 0.3 h / (c + 1), 30 steps after a
-warm-up of 3, under each transfer scheme (run.transfer apic, the MLS-MPM form
+warm-up of 3 (best of five such runs), under each transfer scheme (run.transfer apic, the MLS-MPM form
 the peer uses, then musl).  Prints marker-steps per second per core and bytes
 per marker; the line RATE gives apic's, RATE_MUSL musl's (-bench_transfer
 apic|musl runs one of them).  The peer reference
@@ -41,7 +41,7 @@ def bench(transfer):
     for _ in range(3):
         S.step()
     ts = []
-    for _ in range(3):      # best of three 30-step runs: this machine's timings vary between runs
+    for _ in range(5):      # best of five 30-step runs: this machine's timings vary between runs
         mpi.Barrier()
         t = time.perf_counter()
         for _ in range(30):
