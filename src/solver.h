@@ -149,6 +149,7 @@ typedef struct {
   PetscSF        sfg, sfh;       /* ghost exchange of Gl and Hl (halo.c) */
   PetscInt       dim, pad;
   PetscReal      h[3];           /* cell size (m) */
+  PetscReal      ih[3], Dinv[3]; /* 1/h (1/m), 4/h^2 (1/m^2) */
   PetscReal      t, dt;          /* s */
   PetscReal      smax;           /* global max of wave speed + |v| + viscous term (m/s) */
   PetscReal      mass_min;       /* node mass below which a node carries no velocity (kg) */

@@ -70,6 +70,8 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
     S->bc[d][0] = d < S->dim ? (PSBCType)bc[2 * d] : PS_BC_FREE;
     S->bc[d][1] = d < S->dim ? (PSBCType)bc[2 * d + 1] : PS_BC_FREE;
     S->h[d]     = d < S->dim ? (scene->upper[d] - scene->lower[d]) / scene->cells[d] : 1.0;
+    S->ih[d]    = 1.0 / S->h[d];
+    S->Dinv[d]  = 4.0 / (S->h[d] * S->h[d]); /* MLS-MPM D_p^-1 of quadratic B-splines */
   }
   PetscCall(DMDAGetInfo(da, NULL, NULL, NULL, NULL, &S->nproc[0], &S->nproc[1], &S->nproc[2], NULL, NULL, NULL, NULL, NULL, NULL));
   PetscCall(DMDAGetOwnershipRanges(da, &l[0], &l[1], &l[2]));
@@ -689,13 +691,9 @@ static inline void Store4(PetscReal *p, PSv4 v)
 static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, const PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscReal *g)
 {
   const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1, ns = PSStressComponents(dim);
-  PetscReal      Dinv[3], ih[3];
-  PetscInt       p, d, e, a, b, c;
+  const PetscReal *Dinv = S->Dinv, *ih = S->ih;
+  PetscInt        p, d, e, a, b, c;
 
-  for (d = 0; d < 3; d++) {
-    Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
-    ih[d]   = 1.0 / S->h[d];
-  }
   for (p = 0; p < f->n; p++) {
     const PetscReal m = f->mass[p], V = f->vol[p], *Cp = &f->C[p * dim * dim];
     PetscReal       s[3][3], Q[3][3], mv[3];
@@ -744,13 +742,9 @@ static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, con
 static inline __attribute__((always_inline)) void G2PAPIC(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscReal *g)
 {
   const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1;
-  PetscReal      Dinv[3], ih[3];
-  PetscInt       p, d, e, a, b, c;
+  const PetscReal *Dinv = S->Dinv, *ih = S->ih;
+  PetscInt        p, d, e, a, b, c;
 
-  for (d = 0; d < 3; d++) {
-    Dinv[d] = 4.0 / (S->h[d] * S->h[d]);
-    ih[d]   = 1.0 / S->h[d];
-  }
   for (p = 0; p < f->n; p++) {
     PetscReal v[4] = {0, 0, 0, 0}, Bm[3][4] = {{0}}; /* lane 1 + d: velocity component d; Bm[e][1 + d] = sum N v_d r_e */
     PSBspline B;
