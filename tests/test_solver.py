@@ -216,7 +216,8 @@ def test_one_and_two_ranks_give_the_same_history(tmpdir_mpi):
     # gauges follow the same markers on any rank count and record the shock arriving
     g1, g2 = (np.genfromtxt(os.path.join(tmpdir_mpi, f"o{k}", "gauges.csv"), delimiter=",", names=True) for k in (1, 2))
     assert np.array_equal(g1["id"], g2["id"]) and np.all(g1["present"] == 1)
-    assert np.allclose(g1["vx"], g2["vx"], rtol=1e-9, atol=1e-9)
+    # on the scale of the velocities (800 m/s): a gauge at rest may differ by round-off of that scale
+    assert np.max(np.abs(g1["vx"] - g2["vx"])) <= 1e-10 * np.abs(g1["vx"]).max()
     tgt = g2[g2["gauge"] == 1]
     assert tgt["vx"][0] == 0.0 and tgt["vx"].max() > 300.0 and tgt["pressure"].max() > 5e9
     # Johnson-Cook materials write plastic strain and temperature; the series opens in ParaView

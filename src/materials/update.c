@@ -98,7 +98,7 @@ PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e,
 static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMaterial *M, const PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
 {
   PetscReal Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3];
-  PetscReal J, rho, trD, A, B, c2, c, q, wdev = 0.0, p0 = *s->p, p1, e1;
+  PetscReal J, rho, irho, trD, A, B, c2, q, wdev = 0.0, p0 = *s->p, p1, e1;
   PetscBool failed = (s->D && *s->D >= 1.0) ? PETSC_TRUE : PETSC_FALSE;
   PetscInt  i, j, k;
 
@@ -107,7 +107,8 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
   J     = PSKinematics(dim, L, dt, s, Fn, D, &trD);
   *Jout = J;
   if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS);
-  rho = M->rho0 / J;
+  rho  = M->rho0 / J;
+  irho = J / M->rho0; /* 1/rho without a second division */
   for (i = 0; i < 3; i++) D[i][i] -= trD / 3.0; /* D' */
 
   /* 2-3. unrotated deviator with J2 return */
@@ -142,9 +143,14 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
         }
       }
     }
-    /* deviatoric work with the mid-step stress (trapezoidal, like the pressure work) */
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) wdev += 0.5 * (S0[i][j] + S[i][j]) * Dt[i][j];
+    /* deviatoric work with the mid-step stress (trapezoidal, like the pressure
+       work); a partial sum per row keeps the additions independent */
+    {
+      PetscReal w[3] = {0, 0, 0};
+      for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) w[i] += (S0[i][j] + S[i][j]) * Dt[i][j];
+      wdev = 0.5 * (w[0] + w[1] + w[2]);
+    }
   }
   if (failed) {
     for (i = 0; i < 3; i++)
@@ -155,12 +161,11 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
 
   /* 4-5. pressure, viscosity, energy */
   PetscCall(M->eos_fn(M, J, p0, trD * dt, &A, &B, &c2));
-  c = PetscSqrtReal(c2);
-  q = PSViscosity(rho, h, trD, c, c_linear, c_quadratic);
+  q = trD < 0.0 ? PSViscosity(rho, h, trD, PetscSqrtReal(c2), c_linear, c_quadratic) : 0.0; /* compression only */
   {
     /* the viscous work, like the pressure work, with the step's mean q */
-    const PetscReal a = dt * trD / rho;
-    e1 = (*s->e + dt * wdev / rho - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
+    const PetscReal a = dt * trD * irho;
+    e1 = (*s->e + dt * wdev * irho - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
   }
   p1 = A + B * e1;
   if (M->spall < 0.0 && p1 < M->spall) p1 = 0.0; /* spalled: no tension */
@@ -173,7 +178,7 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
   PSTurn(R, PETSC_FALSE, S, Dt);
   for (i = 0; i < 3; i++) Dt[i][i] -= p1;
   PSStressPack(dim, Dt, s->sig);
-  *cout = PetscSqrtReal(c2 + 4.0 * M->G / (3.0 * rho));
+  *cout = PetscSqrtReal(c2 + (4.0 / 3.0) * M->G * irho);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
