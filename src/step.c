@@ -708,14 +708,17 @@ static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, con
        adds w_a (T + r_x,a Qx) with Qx = (0, Q_.0): dof-wide multiply-adds */
     if (dim == 3) {
       /* the same, 4-wide */
-      const PSv4 Qx = {0.0, Q[0][0], Q[1][0], Q[2][0]};
-      for (c = 0; c < 3; c++)
+      const PSv4 Qx = {0.0, Q[0][0], Q[1][0], Q[2][0]}, Qy = {0.0, Q[0][1], Q[1][1], Q[2][1]}, Qz = {0.0, Q[0][2], Q[1][2], Q[2][2]};
+      const PSv4 T0 = {m, mv[0], mv[1], mv[2]};
+      for (c = 0; c < 3; c++) {
+        const PSv4 Tz = T0 + B.r[2][c] * Qz;
         for (b = 0; b < 3; b++) {
-          const PetscReal wyz = B.w[1][b] * B.w[2][c], ry = B.r[1][b], rz = B.r[2][c];
-          const PSv4      T   = {m, mv[0] + Q[0][1] * ry + Q[0][2] * rz, mv[1] + Q[1][1] * ry + Q[1][2] * rz, mv[2] + Q[2][1] * ry + Q[2][2] * rz};
+          const PetscReal wyz = B.w[1][b] * B.w[2][c];
+          const PSv4      T   = Tz + B.r[1][b] * Qy;
           PetscReal      *gr  = &g[4 * Lidx(ix, B.i0[0], B.i0[1] + b, B.i0[2] + c)];
           for (a = 0; a < 3; a++) Store4(gr + 4 * a, Load4(gr + 4 * a) + (B.w[0][a] * wyz) * (T + B.r[0][a] * Qx));
         }
+      }
       continue;
     }
     for (c = 0; c < nz; c++)
