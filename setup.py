@@ -46,7 +46,7 @@ ext = Extension(
     runtime_library_dirs=libdirs,
     libraries=["petsc_real", "hdf5", "mpi"],
     # built on the machine that runs it (scripts/setup), so -march=native is safe
-    extra_compile_args=["-O3", "-march=native", "-std=c99", "-Wno-unused-function"],
+    extra_compile_args=["-O3", "-march=native", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
     depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/shape.h", "src/materials.h"],
 )
 

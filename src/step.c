@@ -690,13 +690,16 @@ static inline void Store4(PetscReal *p, PSv4 v)
    call (always inlined: a 2D and a 3D kernel). */
 static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, const PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscReal *g)
 {
-  const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1, ns = PSStressComponents(dim);
+  /* row and plane strides of the local array, read once (the extension is
+     built with -fno-strict-aliasing: an index read per row is re-read after
+     every store into g) */
+  const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1, ns = PSStressComponents(dim), sy = dof * ix->gm[0], sz = sy * ix->gm[1];
   const PetscReal *Dinv = S->Dinv, *ih = S->ih;
   PetscInt        p, d, e, a, b, c;
 
   for (p = 0; p < f->n; p++) {
     const PetscReal m = f->mass[p], V = f->vol[p], *Cp = &f->C[p * dim * dim];
-    PetscReal       s[3][3], Q[3][3], mv[3];
+    PetscReal       s[3][3], Q[3][3], mv[3], *g0;
     PSBspline       B;
     BsplineEval(dim, S->scene->lower, S->h, ih, &f->x[p * dim], &B);
     ForceStress(dim, &f->sig[p * ns], f->q[p], s);
@@ -706,6 +709,7 @@ static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, con
     }
     /* per row of 3 nodes along x: T = (m, m v + Q_.1 r_y + Q_.2 r_z), node a
        adds w_a (T + r_x,a Qx) with Qx = (0, Q_.0): dof-wide multiply-adds */
+    g0 = &g[dof * Lidx(ix, B.i0[0], B.i0[1], B.i0[2])]; /* first node; rows sy, planes sz apart */
     if (dim == 3) {
       /* the same, 4-wide */
       const PSv4 Qx = {0.0, Q[0][0], Q[1][0], Q[2][0]}, Qy = {0.0, Q[0][1], Q[1][1], Q[2][1]}, Qz = {0.0, Q[0][2], Q[1][2], Q[2][2]};
@@ -715,7 +719,7 @@ static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, con
         for (b = 0; b < 3; b++) {
           const PetscReal wyz = B.w[1][b] * B.w[2][c];
           const PSv4      T   = Tz + B.r[1][b] * Qy;
-          PetscReal      *gr  = &g[4 * Lidx(ix, B.i0[0], B.i0[1] + b, B.i0[2] + c)];
+          PetscReal      *gr  = g0 + c * sz + b * sy;
           for (a = 0; a < 3; a++) Store4(gr + 4 * a, Load4(gr + 4 * a) + (B.w[0][a] * wyz) * (T + B.r[0][a] * Qx));
         }
       }
@@ -724,7 +728,7 @@ static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, con
     for (c = 0; c < nz; c++)
       for (b = 0; b < 3; b++) {
         const PetscReal wyz = B.w[1][b] * B.w[2][c];
-        PetscReal       T[4], Qx[4], *gr = &g[dof * Lidx(ix, B.i0[0], B.i0[1] + b, B.i0[2] + c)];
+        PetscReal       T[4], Qx[4], *gr = g0 + c * sz + b * sy;
         T[0]  = m;
         Qx[0] = 0.0;
         for (d = 0; d < dim; d++) {
@@ -744,21 +748,22 @@ static inline __attribute__((always_inline)) void P2GAPIC(const PSSolver *S, con
    row of nodes first: per node 2 dim multiply-adds), displacement dt v_p */
 static inline __attribute__((always_inline)) void G2PAPIC(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscReal *g)
 {
-  const PetscInt dof = 1 + dim, nz = dim == 3 ? 3 : 1;
-  const PetscReal *Dinv = S->Dinv, *ih = S->ih;
-  PetscInt        p, d, e, a, b, c;
+  const PetscInt   dof = 1 + dim, nz = dim == 3 ? 3 : 1, sy = dof * ix->gm[0], sz = sy * ix->gm[1];
+  const PetscReal *Dinv = S->Dinv, *ih = S->ih, *gb;
+  PetscInt         p, d, e, a, b, c;
 
   for (p = 0; p < f->n; p++) {
     PetscReal v[4] = {0, 0, 0, 0}, Bm[3][4] = {{0}}; /* lane 1 + d: velocity component d; Bm[e][1 + d] = sum N v_d r_e */
     PSBspline B;
     BsplineEval(dim, S->scene->lower, S->h, ih, &f->x[p * dim], &B);
+    gb = &g[dof * Lidx(ix, B.i0[0], B.i0[1], B.i0[2])]; /* first node; rows sy, planes sz apart */
     if (dim == 3) {
       /* the same, 4-wide */
       PSv4 vv = {0, 0, 0, 0}, B0 = {0, 0, 0, 0}, B1 = {0, 0, 0, 0}, B2 = {0, 0, 0, 0};
       for (c = 0; c < 3; c++)
         for (b = 0; b < 3; b++) {
           const PetscReal  wyz = B.w[1][b] * B.w[2][c];
-          const PetscReal *gr  = &g[4 * Lidx(ix, B.i0[0], B.i0[1] + b, B.i0[2] + c)];
+          const PetscReal *gr  = gb + c * sz + b * sy;
           const PSv4       g0 = Load4(gr), g1 = Load4(gr + 4), g2 = Load4(gr + 8);
           const PSv4       sw = B.w[0][0] * g0 + B.w[0][1] * g1 + B.w[0][2] * g2;
           const PSv4       sx = (B.w[0][0] * B.r[0][0]) * g0 + (B.w[0][1] * B.r[0][1]) * g1 + (B.w[0][2] * B.r[0][2]) * g2;
@@ -778,7 +783,7 @@ static inline __attribute__((always_inline)) void G2PAPIC(PSSolver *S, PSFields 
       for (b = 0; b < 3; b++) {
         /* a row of 3 nodes: sw = sum_a w_a g_a, sx = sum_a w_a r_x,a g_a (dof wide, lane 0 the mass) */
         const PetscReal  wyz = B.w[1][b] * B.w[2][c], ry = B.r[1][b], rz = B.r[2][c];
-        const PetscReal *gr  = &g[dof * Lidx(ix, B.i0[0], B.i0[1] + b, B.i0[2] + c)];
+        const PetscReal *gr  = gb + c * sz + b * sy;
         PetscReal        sw[4] = {0, 0, 0, 0}, sx[4] = {0, 0, 0, 0};
         for (a = 0; a < 3; a++) {
           const PetscReal  w = B.w[0][a] * wyz, wr = w * B.r[0][a];
