@@ -348,7 +348,7 @@ static inline PetscInt LocalCell(const PSSolver *S, const PetscReal *x)
 {
   PetscInt d, k = 0;
   for (d = S->dim - 1; d >= 0; d--) {
-    PetscInt c = (PetscInt)PetscFloorReal((x[d] - S->scene->lower[d]) / S->h[d]);
+    PetscInt c = (PetscInt)PetscFloorReal((x[d] - S->scene->lower[d]) * S->ih[d]);
     c = PetscMin(PetscMax(c, S->cs[d]), S->ce[d] - 1);
     k = k * (S->ce[d] - S->cs[d]) + (c - S->cs[d]);
   }
@@ -1002,6 +1002,10 @@ PetscErrorCode PSSolverMigrate(PSSolver *S)
   for (p = nrm - 1; p >= 0; p--) PetscCall(DMSwarmRemovePointAtIndex(S->sw, rm[p]));
   PetscCall(PetscFree(rm));
 
+  if (S->nproc[0] * S->nproc[1] * S->nproc[2] == 1) { /* one rank: nowhere to send a marker */
+    PetscCall(PetscLogEventEnd(EV_Migrate, 0, 0, 0, 0));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)S->sw), &me));
   PetscCall(DMSwarmGetLocalSize(S->sw, &f.n));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&f.x));
@@ -1009,7 +1013,7 @@ PetscErrorCode PSSolverMigrate(PSSolver *S)
   for (p = 0; p < f.n; p++) {
     PetscInt r[3] = {0, 0, 0};
     for (d = 0; d < dim; d++) {
-      PetscInt cell = (PetscInt)floor((f.x[p * dim + d] - S->scene->lower[d]) / S->h[d]), node, k = 0;
+      PetscInt cell = (PetscInt)floor((f.x[p * dim + d] - S->scene->lower[d]) * S->ih[d]), node, k = 0;
       cell = PetscMin(PetscMax(cell, 0), S->scene->cells[d] - 1);
       node = cell + S->pad;
       while (k + 1 < S->nproc[d] && node >= S->lx[d][k + 1]) k++;
