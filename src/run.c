@@ -200,9 +200,7 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
     }
   }
   if (S->smax == 0.0) PetscCall(PSSolverMaxSpeed(S)); /* fresh start; a restart brings its own */
-  /* the initial state: grid fields are empty until the first step */
-  PetscCall(VecZeroEntries(S->G));
-  if (S->H) PetscCall(VecZeroEntries(S->H));
+  /* the initial state: the grid's local arrays are empty until the first step */
   PetscCall(Output(S, &io));
   PetscCall(History(S, &io));
   t_next_out = S->run.output_interval > 0 ? t_start + S->run.output_interval : S->run.t_end;

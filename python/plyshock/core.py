@@ -60,9 +60,10 @@ def transfer(scene):
     """The run's transfer scheme: the deck's, or -run_transfer (it decides
     which marker fields exist, so it is read before the markers are made)."""
     from petsc4py import PETSc
+    from .scene import TRANSFERS
     t = PETSc.Options().getString("run_transfer", scene.run.transfer if scene.run else "musl")
-    if t not in ("musl", "apic"):
-        raise DeckError("-run_transfer", f"must be one of musl|apic, got {t!r}")
+    if t not in TRANSFERS:
+        raise DeckError("-run_transfer", f"must be one of {'|'.join(TRANSFERS)}, got {t!r}")
     shape = PETSc.Options().getString("run_shape", scene.run.shape if scene.run else "gimp")
     if t == "apic" and shape != "bspline2":
         raise DeckError("run.transfer", f"apic (MLS-MPM, D_p = h^2/4 I) needs run.shape bspline2, got {shape!r}")
