@@ -76,6 +76,14 @@ typedef PetscErrorCode (*PSPlyFailureFn)(const PSMaterial *, const PetscReal s[6
 struct PSMarkerState_;
 /* one marker's constitutive update over a step (isotropic or orthotropic kernel) */
 typedef PetscErrorCode (*PSUpdateFn)(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, struct PSMarkerState_ *, PetscReal *J, PetscReal *c);
+/* the same update for four 3D markers of one material at once, lane by lane
+   bitwise equal to PSUpdateFn (materials/update4.c) */
+typedef PetscErrorCode (*PSUpdate4Fn)(const PSMaterial *, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, struct PSMarkerState_ *s, PetscReal J[4], PetscReal c[4]);
+
+/* 4-wide vectors of reals and of lane masks (GCC/Clang vector extension; AVX2
+   with -march=native, plain scalar code elsewhere) */
+typedef PetscReal  PSv4 __attribute__((vector_size(4 * sizeof(PetscReal))));
+typedef PetscInt64 PSm4 __attribute__((vector_size(4 * sizeof(PetscInt64))));
 
 /* Orthotropic ply data (material axes 1 = fiber, 2, 3), SI units. */
 typedef struct {
@@ -108,6 +116,7 @@ struct PSMaterial_ {
   PSPly        ply;
   PSPlyFailureFn ply_failure_fn; /* NULL: no ply failure */
   PSUpdateFn   update_fn;       /* the kernel for this material, chosen by PSMaterialInit */
+  PSUpdate4Fn  update4_fn;      /* its 4-marker 3D form; NULL: none (plies, metal failure) */
 };
 
 /* Run parameters (deck `run:` section; -run_<key> overrides). */
@@ -126,6 +135,7 @@ typedef struct {
   PetscInt    progress_interval;/* steps between progress lines on rank 0 (0: every ~2 s of wall time) */
   PetscReal   dt_max;          /* s; 0 = none */
   PetscBool   fbar;            /* cell-averaged volumetric rate (Delta-F-bar anti-locking) */
+  PetscInt    lanes;           /* markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar; option only, for checks) */
 } PSRunParams;
 
 /* Conserved totals, global (or one rank's booked removals). */

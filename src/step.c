@@ -168,6 +168,7 @@ PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
   PetscCall(PetscOptionsReal("-dt_max", "largest time step (s); 0: none", "plyshock", r->dt_max, &r->dt_max, NULL));
   PetscCall(PetscOptionsReal("-mass_threshold", "nodes lighter than this share of a full cell carry no velocity", "plyshock", r->mass_threshold, &r->mass_threshold, NULL));
   PetscCall(PetscOptionsBool("-fbar", "average the volumetric strain rate over each cell (Delta-F-bar, against volumetric locking)", "plyshock", r->fbar, &r->fbar, NULL));
+  PetscCall(PetscOptionsInt("-lanes", "markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar, for checks)", "plyshock", r->lanes, &r->lanes, NULL));
   PetscCall(PetscOptionsInt("-max_steps", "stop after this many steps (0: none)", "plyshock", r->max_steps, &r->max_steps, NULL));
   PetscCall(PetscOptionsInt("-history_interval", "steps between history rows", "plyshock", r->history_interval, &r->history_interval, NULL));
   PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
@@ -178,6 +179,7 @@ PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
   PetscCheck(r->cfl > 0 && r->cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.cfl %g must be in (0, 1]", (double)r->cfl);
   PetscCheck(r->pic_fraction >= 0 && r->pic_fraction <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.pic_fraction %g must be in [0, 1]", (double)r->pic_fraction);
   PetscCheck(r->transfer == PS_TRANSFER_MUSL || r->pic_fraction == 0, comm, PETSC_ERR_ARG_INCOMP, "run.pic_fraction %g applies to run.transfer musl only (apic is a PIC-type transfer); set it to 0", (double)r->pic_fraction);
+  PetscCheck(r->lanes == 1 || r->lanes == 4, comm, PETSC_ERR_ARG_OUTOFRANGE, "-run_lanes %" PetscInt_FMT " must be 1 or 4", r->lanes);
   PetscCheck(r->c_linear >= 0 && r->c_quadratic >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "artificial viscosity coefficients (%g, %g) must be >= 0", (double)r->c_linear, (double)r->c_quadratic);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -670,9 +672,7 @@ static inline void BsplineEval(PetscInt dim, const PetscReal lower[], const Pets
   }
 }
 
-/* 3D APIC nodes hold 4 reals (m, m v): one 4-wide vector (GCC/Clang vector
-   extension; AVX2 with -march=native) */
-typedef PetscReal PSv4 __attribute__((vector_size(4 * sizeof(PetscReal))));
+/* 3D APIC nodes hold 4 reals (m, m v): one 4-wide vector (PSv4, solver.h) */
 static inline PSv4 Load4(const PetscReal *p)
 {
   PSv4 v;
@@ -861,13 +861,39 @@ static inline void MarkerL(const PSSolver *S, const PSFields *f, const PSIndex *
   } else VelocityGradient(dim, ix, hv, &S->shape[p], L);
 }
 
+/* pointers to marker p's state for the constitutive kernels */
+static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p, PSMarkerState *st)
+{
+  const PetscInt dim = S->dim, ns = PSStressComponents(dim);
+  memset(st, 0, sizeof(*st));
+  st->F     = &f->F[p * dim * dim];
+  st->V0    = f->V0[p];
+  st->vol   = &f->vol[p];
+  st->sdev  = &f->sdev[p * ns];
+  st->sig   = &f->sig[p * ns];
+  st->p     = &f->p[p];
+  st->q     = &f->q[p];
+  st->e     = &f->e[p];
+  st->eps_p = f->eps_p ? &f->eps_p[p] : NULL;
+  st->T     = f->T ? &f->T[p] : NULL;
+  st->D     = f->D ? &f->D[p * S->scene->ndamage] : NULL;
+  if (f->axes) {
+    /* a ply's axes at t = 0 from its body and ply (identity outside laminates) */
+    static const PetscReal I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const PetscInt         k     = f->ply ? f->ply[p] : -1;
+    st->axes0 = k >= 0 ? &S->scene->bodies[f->body[p]].ply_axes[9 * k] : I9;
+    st->axes  = &f->axes[9 * p];
+    st->smat  = &f->smat[6 * p];
+  }
+}
+
 PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
 {
   const PetscInt  dim = S->dim;
   PSIndex         ix;
   PSFields        f;
   const PetscReal *hv = NULL;
-  PetscReal       smax = 0.0, dt;
+  PetscReal       smax = 0.0, dt, hm = 0.0;
   PetscInt        p, d;
   MPI_Comm        comm = PetscObjectComm((PetscObject)S->sw);
 
@@ -919,39 +945,35 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
       for (d = 0; d < dim; d++) Lp[4 * d] += shift;
     }
   }
-  for (p = 0; p < f.n; p++) {
-    PetscReal     L[3][3] = {{0}}, J, cs, v2 = 0.0, hm = 0.0;
-    PSMarkerState st = {NULL};
-    if (S->run.fbar) PetscCall(PetscArraycpy(&L[0][0], &S->Lp[9 * p], 9));
-    else MarkerL(S, &f, &ix, hv, p, L);
-    st.F     = &f.F[p * dim * dim];
-    st.V0    = f.V0[p];
-    st.vol   = &f.vol[p];
-    st.sdev  = &f.sdev[p * PSStressComponents(dim)];
-    st.sig   = &f.sig[p * PSStressComponents(dim)];
-    st.p     = &f.p[p];
-    st.q     = &f.q[p];
-    st.e     = &f.e[p];
-    st.eps_p = f.eps_p ? &f.eps_p[p] : NULL;
-    st.T     = f.T ? &f.T[p] : NULL;
-    st.D     = f.D ? &f.D[p * S->scene->ndamage] : NULL;
-    if (f.axes) {
-      /* a ply's axes at t = 0 from its body and ply (identity outside laminates) */
-      static const PetscReal I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-      const PetscInt         k     = f.ply ? f.ply[p] : -1;
-      st.axes0 = k >= 0 ? &S->scene->bodies[f.body[p]].ply_axes[9 * k] : I9;
-      st.axes  = &f.axes[9 * p];
-      st.smat  = &f.smat[6 * p];
+  for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
+  for (p = 0; p < f.n;) {
+    const PSMaterial *M = &S->mat[f.mat[p]];
+    PetscReal         L[4][3][3], J[4], cs[4];
+    PSMarkerState     st[4];
+    PetscInt          k, nb = 1;
+
+    /* four 3D markers of one material in a row go through the 4-lane kernel */
+    if (dim == 3 && S->run.lanes == 4 && M->update4_fn && p + 4 <= f.n && f.mat[p + 1] == f.mat[p] && f.mat[p + 2] == f.mat[p] && f.mat[p + 3] == f.mat[p]) nb = 4;
+    for (k = 0; k < nb; k++) {
+      if (S->run.fbar) PetscCall(PetscArraycpy(&L[k][0][0], &S->Lp[9 * (p + k)], 9));
+      else {
+        PetscCall(PetscArrayzero(&L[k][0][0], 9));
+        MarkerL(S, &f, &ix, hv, p + k, L[k]);
+      }
+      MarkerState(S, &f, p + k, &st[k]);
     }
-    for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
-    PetscCall(S->mat[f.mat[p]].update_fn(&S->mat[f.mat[p]], dim, L, dt, hm, S->run.c_linear, S->run.c_quadratic, &st, &J, &cs));
-    if (PetscUnlikely(J <= 0.0)) PetscCall(PSMarkerCheckJ(J, f.id[p], f.mat[p], S->step + 1, S->t));
-    for (d = 0; d < dim; d++) {
-      f.x[p * dim + d] += S->dx[p * dim + d];
-      v2 += f.v[p * dim + d] * f.v[p * dim + d];
+    if (nb == 4) PetscCall(M->update4_fn(M, (const PetscReal(*)[3][3])L, dt, hm, S->run.c_linear, S->run.c_quadratic, st, J, cs));
+    else PetscCall(M->update_fn(M, dim, L[0], dt, hm, S->run.c_linear, S->run.c_quadratic, &st[0], &J[0], &cs[0]));
+    for (k = 0; k < nb; k++, p++) {
+      PetscReal v2 = 0.0;
+      if (PetscUnlikely(J[k] <= 0.0)) PetscCall(PSMarkerCheckJ(J[k], f.id[p], f.mat[p], S->step + 1, S->t));
+      for (d = 0; d < dim; d++) {
+        f.x[p * dim + d] += S->dx[p * dim + d];
+        v2 += f.v[p * dim + d] * f.v[p * dim + d];
+      }
+      /* the viscous term tightens the CFL limit in compression (q / (rho c)) */
+      smax = PetscMax(smax, cs[k] + PetscSqrtReal(v2) + (f.q[p] > 0.0 ? f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs[k], 1e-300)) : 0.0));
     }
-    /* the viscous term tightens the CFL limit in compression (q / (rho c)) */
-    smax = PetscMax(smax, cs + PetscSqrtReal(v2) + (f.q[p] > 0.0 ? f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs, 1e-300)) : 0.0));
   }
   if (S->Hl) PetscCall(VecRestoreArrayRead(S->Hl, &hv));
   PetscCall(PetscLogEventEnd(EV_Stress, 0, 0, 0, 0));

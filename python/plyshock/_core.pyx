@@ -102,6 +102,7 @@ cdef extern from "solver.h":
         PetscInt progress_interval
         PetscReal dt_max
         PetscBool fbar
+        PetscInt lanes
     ctypedef struct PSPly:
         PetscReal C[36]
         PetscReal K_R, c2max
@@ -360,6 +361,7 @@ cdef class Solver:
         self.r.progress_interval = run["progress_interval"]
         self.r.dt_max = run["dt_max"]
         self.r.fbar = <PetscBool>(1 if run.get("fbar") else 0)
+        self.r.lanes = 4
         CHK(PSRunParamsSetFromOptionsDM(da.dm, &self.r))
         mats = <PSMaterial *>calloc(max(1, len(materials)), sizeof(PSMaterial))
         try:

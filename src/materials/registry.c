@@ -45,6 +45,7 @@ PetscErrorCode PSMaterialInit(PSMaterial *M, const char eos[], const char streng
     PetscCall(PetscFunctionListFind(PSFailureList, failure, &M->failure_fn));
     PetscCheck(M->failure_fn, PETSC_COMM_SELF, PETSC_ERR_ARG_UNKNOWN_TYPE, "unknown failure type %s", failure);
   }
-  M->update_fn = M->aniso ? PSMarkerUpdateOrthotropic : PSMarkerUpdate;
+  M->update_fn  = M->aniso ? PSMarkerUpdateOrthotropic : PSMarkerUpdate;
+  M->update4_fn = (M->aniso || M->failure_fn) ? NULL : PSMarkerUpdate4;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
