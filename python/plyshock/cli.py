@@ -44,7 +44,7 @@ def _parser():
     v = sub.add_parser("verify", help="error against run time: plate impact and elastic wave, every shape function, finer grids")
     v.add_argument("-o", "--output", default="out/verify", help="output directory (verify.csv, verify.png)")
     v.add_argument("--levels", type=int, default=3, help="grid levels from 100 um, halving (default 3)")
-    v.add_argument("--taylor", type=float, metavar="CELL", help="the longer mode: also the copper Taylor bar with this cell size (m), e.g. 0.5e-3")
+    v.add_argument("--taylor", type=float, metavar="CELL", help="the longer mode: also the copper Taylor bar with this cell size (m), e.g. 0.5e-3, and the same model by an axisymmetric Lagrangian reference (taylor_rz)")
     pl = sub.add_parser("plot", help="render markers with orientation glyphs coloured by ply, off screen")
     pl.add_argument("markers", help="a marker file written by plyshock init")
     pl.add_argument("--png", required=True)

@@ -107,12 +107,12 @@ def run_one(problem, h, shape):
 TAYLOR = dict(L0=25.4e-3, D0=7.62e-3, v=190.0, L=16.21e-3, D=13.56e-3)   # Johnson & Cook 1983
 
 
-def taylor(cell=0.5e-3, shape="gimp", subdivision=2, fbar=True, t_end=80e-6):
+def taylor(cell=0.5e-3, shape="gimp", subdivision=2, fbar=True, t_end=80e-6, transfer="musl"):
     """The copper Taylor bar (3D quarter model against a rigid frictionless wall):
     final length and foot diameter after 80 us, and their errors against the
     measured 16.21 mm and 13.56 mm (Johnson & Cook 1983).  fbar: cell-averaged
-    volumetric rate against locking (with a 5% PIC share, which keeps its
-    zero-energy modes from growing under FLIP)."""
+    volumetric rate against locking (under musl with a 5% PIC share, which keeps
+    its zero-energy modes from growing under FLIP; apic needs bspline2)."""
     from petsc4py import PETSc
     from . import core
     from .scene import Cylinder
@@ -123,8 +123,8 @@ def taylor(cell=0.5e-3, shape="gimp", subdivision=2, fbar=True, t_end=80e-6):
                   [Material("cu", preset="OFHC-copper")],
                   [Body("bar", cylinder=Cylinder([0, 0, 0], [0, 0, 1], T["D0"] / 2, T["L0"]), material="cu",
                         velocity=[0, 0, -T["v"]], subdivision=subdivision)],
-                  Run(t_end=t_end, shape=shape, history_interval=100000, fbar=fbar,
-                      pic_fraction=0.05 if fbar else 0.0)).validate()
+                  Run(t_end=t_end, shape=shape, transfer=transfer, history_interval=100000, fbar=fbar,
+                      pic_fraction=0.05 if fbar and transfer == "musl" else 0.0)).validate()
     comm = PETSc.COMM_WORLD.tompi4py()
     w0 = time.perf_counter()
     m = core.initialize(scene)
@@ -175,11 +175,24 @@ def main(outdir="out/verify", levels=3, shapes=("linear", "gimp", "bspline2"), t
             print(f"observed L1 order {problem} {shape}: " + ", ".join(f"{x:.2f}" for x in p))
         print(f"wrote {outdir}/verify.csv and {outdir}/verify.png")
     if taylor_cell:
-        tb = taylor(taylor_cell)
+        # plyshock (APIC, quadratic B-splines, F-bar), then the same model by an
+        # independent axisymmetric Lagrangian solution (taylor_rz.py, rank 0):
+        # the first error is the method's, the second the model's
+        tb = taylor(taylor_cell, shape="bspline2", transfer="apic")
         if rank == 0:
+            from . import taylor_rz
+            w0 = time.perf_counter()
+            ref = taylor_rz.solve()
+            ref_wall = time.perf_counter() - w0
             print(f"Taylor bar ({taylor_cell * 1e3:.2f} mm cells, {tb['markers']} markers, {tb['steps']} steps, {tb['wall_s']:.1f} s): "
                   f"length {tb['length'] * 1e3:.2f} mm ({100 * tb['err_length']:+.1f}% against 16.21 mm), "
                   f"foot diameter {tb['diameter'] * 1e3:.2f} mm ({100 * tb['err_diameter']:+.1f}% against 13.56 mm)")
+            print(f"  the same model, axisymmetric Lagrangian reference ({ref['zones']} zones, {ref_wall:.0f} s): "
+                  f"length {ref['length'] * 1e3:.2f} mm ({100 * (ref['length'] / TAYLOR['L'] - 1):+.1f}% against the test), "
+                  f"foot {ref['diameter'] * 1e3:.2f} mm ({100 * (ref['diameter'] / TAYLOR['D'] - 1):+.1f}%); "
+                  f"plyshock against it: length {100 * (tb['length'] / ref['length'] - 1):+.1f}%, "
+                  f"foot {100 * (tb['diameter'] / ref['diameter'] - 1):+.1f}%")
+            tb.update({f"reference_{k}": v for k, v in ref.items()})
             with open(os.path.join(outdir, "taylor.csv"), "w") as f:
                 f.write(",".join(tb) + "\n" + ",".join(str(v) for v in tb.values()) + "\n")
     return rows
