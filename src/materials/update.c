@@ -166,10 +166,14 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
     /* the viscous work, like the pressure work, with the step's mean q */
     const PetscReal a = dt * trD * irho;
     e1 = (*s->e + dt * wdev * irho - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
+    p1 = A + B * e1;
+    /* spalled (below spall_pressure) or failed in tension: no tension, so the
+       step ends at p = 0 and its pressure work is that of (p0 + 0)/2 */
+    if ((M->spall < 0.0 && p1 < M->spall) || (failed && p1 < 0.0)) {
+      p1 = 0.0;
+      e1 = *s->e + dt * wdev * irho - a * (0.5 * p0 + q);
+    }
   }
-  p1 = A + B * e1;
-  if (M->spall < 0.0 && p1 < M->spall) p1 = 0.0; /* spalled: no tension */
-  if (failed && p1 < 0.0) p1 = 0.0;
   *s->e = e1;
   *s->p = p1;
   *s->q = q;

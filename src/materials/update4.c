@@ -180,9 +180,12 @@ PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], 
     {
       const PetscReal a = dt * trD[l] * irho[l];
       e1 = (*s[l].e + dt * wdev[l] * irho[l] - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
+      p1 = A + B * e1;
+      if (M->spall < 0.0 && p1 < M->spall) { /* spalled */
+        p1 = 0.0;
+        e1 = *s[l].e + dt * wdev[l] * irho[l] - a * (0.5 * p0 + q);
+      }
     }
-    p1 = A + B * e1;
-    if (M->spall < 0.0 && p1 < M->spall) p1 = 0.0;
     *s[l].e = e1;
     *s[l].p = p1;
     *s[l].q = q;
