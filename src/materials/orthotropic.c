@@ -135,15 +135,22 @@ PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *M, PetscInt dim, cons
   f1 = Degrade(s->D ? s->D : zero4, seff, sr, sn);
   if (p0 >= 0.0) f0 = 1.0;
   if (ptrial >= 0.0) f1 = 1.0;
-  if (M->spall < 0.0 && ptrial < M->spall) f1 = 0.0; /* spalled: no tension */
+  if (M->spall < 0.0 && p0 < M->spall) f0 = 0.0; /* spalled at the start: it carried no tension */
   for (i = 0; i < 6; i++) wdev += 0.5 * (sn0[i] + sn[i]) * d[i];
   c = PetscSqrtReal(P->c2max * J + PetscMax(0.0, c2 - P->K_R * J / M->rho0));
   q = PSViscosity(rho, h, trD, c, c_linear, c_quadratic);
   {
     const PetscReal a = dt * trD / rho;
     e1 = (*s->e + dt * wdev / rho - a * (0.5 * f0 * p0 + 0.5 * f1 * Aeos + q)) / (1.0 + 0.5 * a * f1 * Beos);
+    p1 = Aeos + Beos * e1;
+    /* spalled (below spall_pressure) at the end: no tension, so the step's
+       pressure work is that of (f0 p0 + 0)/2, as in update.c */
+    if (M->spall < 0.0 && p1 < M->spall) {
+      f1 = 0.0;
+      e1 = *s->e + dt * wdev / rho - a * (0.5 * f0 * p0 + q);
+      p1 = Aeos + Beos * e1;
+    }
   }
-  p1 = Aeos + Beos * e1;
   *s->e = e1;
   *s->p = p1;
   *s->q = q;
