@@ -482,6 +482,36 @@ def test_spall_pressure_releases_tension_and_books_only_the_work_done():
     assert np.all(np.diff(e[k:n]) == 0.0)
 
 
+def test_a_johnson_cook_failed_marker_carries_no_deviator_or_tension_and_books_its_work():
+    """OFHC copper with Johnson-Cook failure at a constant plastic strain of
+    0.1 (D1 = 0.1, D2..D5 = 0), stretched in uniaxial strain at 1e4/s to
+    J = 1.2 and squeezed back to J = 0.95 through the solver's kernel: damage
+    grows as eps_p / 0.1 and reaches 1 at J = 1.165; from then on the marker
+    carries no deviator and no tension (stress 0 while stretched) but carries
+    pressure again when squeezed; and at every step, the failing one
+    included, its internal energy changes by exactly the work of the Cauchy
+    stress it carried, (sigma_prev + sigma) : L dt / (2 rho)."""
+    if COMM.rank:
+        return
+    m = Material("cu", preset="OFHC-copper",
+                 failure={"type": "johnson-cook", "D1": 0.1, "D2": 0.0, "D3": 0.0, "D4": 0.0, "D5": 0.0}).validate("m")
+    rate, dt, n = 1.0e4, 1.0e-8, 2000
+    L = np.zeros((n + 2500, 3, 3))
+    L[:n, 0, 0], L[n:, 0, 0] = rate, -rate
+    r = core.drive_material(m, L, dt)
+    s, e, J, p, D = r["stress"], r["energy"], r["J"], r["pressure"], r["damage"][:, 0]
+    k = int(np.argmax(D >= 1.0))
+    assert 0.5 * n < k < n and 1.15 < J[k] < 1.18, (k, J[k])
+    assert np.all(np.diff(D[:k + 1]) >= 0) and p[k - 1] < -1e10      # failed in tension
+    assert np.all(s[k:n] == 0.0)
+    dev = s - np.einsum("nii->n", s)[:, None, None] / 3 * np.eye(3)
+    assert np.abs(dev[k:]).max() <= 1e-12 * np.abs(p).max()
+    assert J[-1] < 0.96 and p[-1] > 5e9
+    dw = 0.5 * np.einsum("nij,nij->n", np.concatenate([np.zeros((1, 3, 3)), s[:-1]]) + s, L) * dt * J / m.density
+    de = np.diff(np.concatenate([[0.0], e]))
+    np.testing.assert_allclose(de, dw, rtol=0, atol=1e-9 * np.abs(de).max())
+
+
 @pytest.mark.parametrize("run,hydro", [(dict(transfer="apic", shape="bspline2"), False),
                                        (dict(transfer="musl", shape="gimp", fbar=True), False),
                                        (dict(transfer="musl", shape="bspline2"), True)])

@@ -143,8 +143,13 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
         }
       }
     }
+    /* failing in this step: it ends with no deviator */
+    if (failed)
+      for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) S[i][j] = 0.0;
     /* deviatoric work with the mid-step stress (trapezoidal, like the pressure
-       work); a partial sum per row keeps the additions independent */
+       work; (S0 + 0)/2 in the step a marker fails); a partial sum per row
+       keeps the additions independent */
     {
       PetscReal w[3] = {0, 0, 0};
       for (i = 0; i < 3; i++)
@@ -152,11 +157,9 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
       wdev = 0.5 * (w[0] + w[1] + w[2]);
     }
   }
-  if (failed) {
+  if (failed) /* failed before this step: no deviator, no deviatoric work (wdev stays 0) */
     for (i = 0; i < 3; i++)
       for (j = 0; j < 3; j++) S[i][j] = 0.0;
-    wdev = 0.0;
-  }
   PSStressPack(dim, S, s->sdev);
 
   /* 4-5. pressure, viscosity, energy */
