@@ -68,3 +68,15 @@ def _sync():
     import gc
     gc.collect()
     COMM.Barrier()
+
+
+def energy_and_work_per_step(r, L, dt, rho0):
+    """From a material-driver history r (core.drive_material) under velocity
+    gradients L: each step's change of specific internal energy, and the work
+    of the Cauchy stress carried over it, (sigma_prev + sigma) : L dt / (2 rho)
+    (J/kg), the marker starting unstressed at e = 0."""
+    import numpy as np
+    s = r["stress"]
+    s_prev = np.concatenate([np.zeros((1, 3, 3)), s[:-1]])
+    dw = 0.5 * np.einsum("nij,nij->n", s_prev + s, L) * dt * r["J"] / rho0
+    return np.diff(np.concatenate([[0.0], r["energy"]])), dw
