@@ -100,6 +100,22 @@ static inline PetscReal PSKinematics(const PetscInt dim, const PetscReal L[3][3]
 }
 PETSC_INTERN void      PSPolarRotation(const PetscReal F[3][3], PetscReal R[3][3]);
 PETSC_INTERN PetscErrorCode PSMarkerCheckJ(PetscReal J, PetscInt64 id, PetscInt material, PetscInt step, PetscReal t);
+/* The end-of-step energy e1 and pressure p1 of an isotropic marker from the
+   EOS p = A + B e (implicit in e1, trapezoidal pressure work, the step's mean
+   q; a = dt tr(D) / rho, w = dt wdev / rho).  Spalled (below spall_pressure)
+   or failed in tension, it carries no tension: the step ends at p = 0 and its
+   pressure work is that of (p0 + 0)/2.  One expression for update.c and
+   update4.c, so the two stay bitwise equal. */
+static inline void PSPressureEnergy(const PSMaterial *M, PetscBool failed, PetscReal e, PetscReal w, PetscReal a, PetscReal p0, PetscReal A, PetscReal B, PetscReal q, PetscReal *e1, PetscReal *p1)
+{
+  *e1 = (e + w - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
+  *p1 = A + B * *e1;
+  if ((M->spall < 0.0 && *p1 < M->spall) || (failed && *p1 < 0.0)) {
+    *p1 = 0.0;
+    *e1 = e + w - a * (0.5 * p0 + q);
+  }
+}
+
 PETSC_INTERN PetscReal PSViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic);
 PETSC_INTERN PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *, PetscReal J, PetscReal e, PetscReal p, PetscReal *c);
 

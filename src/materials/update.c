@@ -157,26 +157,14 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
       wdev = 0.5 * (w[0] + w[1] + w[2]);
     }
   }
-  if (failed) /* failed before this step: no deviator, no deviatoric work (wdev stays 0) */
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) S[i][j] = 0.0;
+  /* a marker failed before this step skipped the block: its stored deviator
+     is 0 (zeroed in the step it failed) and wdev stays 0 */
   PSStressPack(dim, S, s->sdev);
 
   /* 4-5. pressure, viscosity, energy */
   PetscCall(M->eos_fn(M, J, p0, trD * dt, &A, &B, &c2));
   q = trD < 0.0 ? PSViscosity(rho, h, trD, PetscSqrtReal(c2), c_linear, c_quadratic) : 0.0; /* compression only */
-  {
-    /* the viscous work, like the pressure work, with the step's mean q */
-    const PetscReal a = dt * trD * irho;
-    e1 = (*s->e + dt * wdev * irho - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
-    p1 = A + B * e1;
-    /* spalled (below spall_pressure) or failed in tension: no tension, so the
-       step ends at p = 0 and its pressure work is that of (p0 + 0)/2 */
-    if ((M->spall < 0.0 && p1 < M->spall) || (failed && p1 < 0.0)) {
-      p1 = 0.0;
-      e1 = *s->e + dt * wdev * irho - a * (0.5 * p0 + q);
-    }
-  }
+  PSPressureEnergy(M, failed, *s->e, dt * wdev * irho, dt * trD * irho, p0, A, B, q, &e1, &p1);
   *s->e = e1;
   *s->p = p1;
   *s->q = q;

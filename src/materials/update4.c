@@ -177,15 +177,7 @@ PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], 
     PetscReal       A, B, c2, q, e1, p1;
     PetscCall(M->eos_fn(M, J[l], p0, trD[l] * dt, &A, &B, &c2));
     q = trD[l] < 0.0 ? PSViscosity(rho[l], h, trD[l], PetscSqrtReal(c2), c_linear, c_quadratic) : 0.0;
-    {
-      const PetscReal a = dt * trD[l] * irho[l];
-      e1 = (*s[l].e + dt * wdev[l] * irho[l] - a * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * a * B);
-      p1 = A + B * e1;
-      if (M->spall < 0.0 && p1 < M->spall) { /* spalled */
-        p1 = 0.0;
-        e1 = *s[l].e + dt * wdev[l] * irho[l] - a * (0.5 * p0 + q);
-      }
-    }
+    PSPressureEnergy(M, PETSC_FALSE, *s[l].e, dt * wdev[l] * irho[l], dt * trD[l] * irho[l], p0, A, B, q, &e1, &p1);
     *s[l].e = e1;
     *s[l].p = p1;
     *s[l].q = q;
