@@ -118,7 +118,7 @@ def test_a_ply_books_exactly_the_work_done_on_it_with_and_without_spall(axis):
     """A ply with an EOS stretched in uniaxial strain along (axis 0) or across
     (axis 1, the matrix fails) its fibres to 0.6% at 1e4/s and squeezed back
     1.2%: at every step its internal energy changes by exactly the work of the
-    Cauchy stress it carried, (sigma_prev + sigma) : L dt / rho (1e-9), with
+    Cauchy stress it carried, (sigma_prev + sigma) : L dt / (2 rho) (1e-9), with
     and without spall_pressure -20 MPa; with it, the stretched ply carries
     less tension (the EOS's is cut), and it is the same as without until the
     EOS pressure first falls below -20 MPa.  (Across the fibres the failed
