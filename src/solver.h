@@ -39,6 +39,7 @@
 #ifndef PLYSHOCK_SOLVER_H
 #define PLYSHOCK_SOLVER_H
 
+#include <petscsf.h>
 #include "plyshock.h"
 
 typedef enum {

@@ -1,0 +1,148 @@
+/*
+  grid.c - the grid phase of the step: the box of nodes the markers reach,
+  zeroing what the last step wrote, and the nodal velocity with the boundary
+  conditions of each face (PSGridUpdate):
+    free      nothing imposed (markers leave and are booked, migrate.c)
+    symmetry  zero normal velocity
+    fixed     zero velocity
+*/
+#include "step.h"
+
+/* boundary conditions on a node's velocity: physical node index ip[d] */
+static inline void NodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
+{
+  PetscInt d, e;
+  for (d = 0; d < S->dim; d++) {
+    PSBCType bc = ip[d] <= 0 ? S->bc[d][0] : ip[d] >= S->scene->cells[d] ? S->bc[d][1] : PS_BC_FREE;
+    if (bc == PS_BC_SYMMETRY) v[d] = 0.0;
+    else if (bc == PS_BC_FIXED)
+      for (e = 0; e < S->dim; e++) v[e] = 0.0;
+  }
+}
+
+
+/* The nodes this step's transfers can touch, over all ranks: from each
+   marker's cell c the nodes c-1 .. c+2 in every direction (every shape
+   function), as DMDA indices [lo, hi).  Markers fill a small part of a
+   typical domain, so zeroing and the grid loops run on this box only. */
+PetscErrorCode PSGridActiveBox(PSSolver *S, const PSFields *f, PetscInt box[3][2])
+{
+  const PetscInt dim = S->dim;
+  PetscReal      buf[6], gbuf[6];
+  PetscInt       p, d;
+
+  PetscFunctionBeginUser;
+  for (d = 0; d < 6; d++) buf[d] = -PETSC_MAX_REAL;
+  for (p = 0; p < f->n; p++)
+    for (d = 0; d < dim; d++) {
+      buf[d]     = PetscMax(buf[d], -f->x[p * dim + d]);
+      buf[3 + d] = PetscMax(buf[3 + d], f->x[p * dim + d]);
+    }
+  PetscCallMPI(MPI_Allreduce(buf, gbuf, 6, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)S->sw)));
+  for (d = 0; d < 3; d++) {
+    if (d >= dim) {
+      box[d][0] = 0;
+      box[d][1] = 1;
+    } else if (-gbuf[d] > gbuf[3 + d]) { /* no markers */
+      box[d][0] = box[d][1] = 0;
+    } else {
+      const PetscInt n  = S->scene->cells[d];
+      PetscInt       cl = (PetscInt)PetscFloorReal((-gbuf[d] - S->scene->lower[d]) / S->h[d]);
+      PetscInt       ch = (PetscInt)PetscFloorReal((gbuf[3 + d] - S->scene->lower[d]) / S->h[d]);
+      cl        = PetscMin(PetscMax(cl, 0), n - 1);
+      ch        = PetscMin(PetscMax(ch, 0), n - 1);
+      box[d][0] = PetscMax(cl - 1 + S->pad, 0);
+      box[d][1] = PetscMin(ch + 3 + S->pad, n + 1 + 2 * S->pad);
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* zero the nodes of box in a dof-per-node array with corner s and size m */
+static PetscErrorCode ZeroBox(Vec v, PetscInt dof, const PetscInt s[3], const PetscInt m[3], const PetscInt box[3][2])
+{
+  PetscReal *a;
+  PetscInt   lo[3], hi[3], j, k;
+
+  PetscFunctionBeginUser;
+  if (!v) PetscFunctionReturn(PETSC_SUCCESS);
+  Clip(box, s, m, lo, hi);
+  if (hi[0] <= lo[0] || hi[1] <= lo[1] || hi[2] <= lo[2]) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(VecGetArray(v, &a));
+  for (k = lo[2]; k < hi[2]; k++)
+    for (j = lo[1]; j < hi[1]; j++) PetscCall(PetscArrayzero(&a[dof * (((k - s[2]) * m[1] + (j - s[1])) * m[0] + (lo[0] - s[0]))], dof * (hi[0] - lo[0])));
+  PetscCall(VecRestoreArray(v, &a));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Start of a step: zero what the last step wrote in the local grid arrays
+   (they are zero elsewhere), then note this step's box.  The step works on
+   the local arrays alone (halo.c); the global vectors serve output. */
+PetscErrorCode PSGridReset(PSSolver *S, const PSIndex *ix, const PetscInt box[3][2])
+{
+  const PetscInt dim = S->dim, dofg = S->run.transfer == PS_TRANSFER_APIC ? 1 + dim : 1 + 2 * dim;
+
+  PetscFunctionBeginUser;
+  if (S->zall) {
+    PetscCall(VecZeroEntries(S->Gl));
+    if (S->Hl) PetscCall(VecZeroEntries(S->Hl));
+  } else {
+    PetscCall(ZeroBox(S->Gl, dofg, ix->gs, ix->gm, S->zbox));
+    PetscCall(ZeroBox(S->Hl, dim, ix->gs, ix->gm, S->zbox));
+  }
+  S->zall = PETSC_FALSE;
+  PetscCall(PetscArraycpy(&S->zbox[0][0], &box[0][0], 6));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* v_i = (mv)_i / m_i with the boundary conditions on the owned nodes of the
+   active box (no mass elsewhere); nodes lighter than mass_min get v = 0.  The
+   mass of node o is m[ms o], its momentum mv[vs o + d], overwritten by v. */
+void PSGridVelocity(const PSSolver *S, const PSIndex *ix, const PetscReal *m, PetscInt ms, PetscReal *mv, PetscInt vs)
+{
+  const PetscInt dim = S->dim;
+  PetscInt       a, b, c, d, lo[3], hi[3];
+
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
+  for (c = lo[2]; c < hi[2]; c++)
+    for (b = lo[1]; b < hi[1]; b++)
+      for (a = lo[0]; a < hi[0]; a++) {
+        const PetscInt  o     = Lidx(ix, a, b, c);
+        const PetscInt  ip[3] = {a - S->pad, b - S->pad, dim == 3 ? c - S->pad : 0};
+        const PetscReal mi    = m[ms * o];
+        PetscReal       vn[3] = {0, 0, 0};
+        if (mi > S->mass_min) {
+          for (d = 0; d < dim; d++) vn[d] = mv[vs * o + d] / mi;
+          NodeBC(S, ip, vn);
+        }
+        for (d = 0; d < dim; d++) mv[vs * o + d] = vn[d];
+      }
+}
+
+/* MUSL's grid update on nodes holding [m, mv, f] (dof 1 + 2 dim):
+   v_old = mv/m, v_new = v_old + dt f/m with the boundary conditions; the node
+   keeps [m, v_new, v_new - v_old] for G2P. */
+void PSGridUpdateMUSL(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscReal *g)
+{
+  const PetscInt dim = S->dim, dof = 1 + 2 * dim;
+  PetscInt       a, b, c, d, lo[3], hi[3];
+
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
+  for (c = lo[2]; c < hi[2]; c++)
+    for (b = lo[1]; b < hi[1]; b++)
+      for (a = lo[0]; a < hi[0]; a++) {
+        const PetscInt ip[3] = {a - S->pad, b - S->pad, dim == 3 ? c - S->pad : 0};
+        PetscReal     *gn    = &g[dof * Lidx(ix, a, b, c)], vo[3] = {0, 0, 0}, vn[3] = {0, 0, 0};
+        if (gn[0] > S->mass_min) {
+          for (d = 0; d < dim; d++) {
+            vo[d] = gn[1 + d] / gn[0];
+            vn[d] = vo[d] + dt * gn[1 + dim + d] / gn[0];
+          }
+          NodeBC(S, ip, vn);
+        }
+        for (d = 0; d < dim; d++) {
+          gn[1 + d]       = vn[d];
+          gn[1 + dim + d] = vn[d] - vo[d];
+        }
+      }
+}

@@ -1,0 +1,168 @@
+/*
+  solver.c - the solver's context: creation from a scene, options (the
+  deck's run: values are the defaults, -run_<key> overrides), gauges, and the
+  log events of the step's phases (step.h).
+*/
+#include "step.h"
+
+const char *const PSShapeTypes[]    = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
+const char *const PSTransferTypes[] = {"musl", "apic", "PSTransferType", "PS_TRANSFER_", NULL};
+
+PetscLogEvent PS_EV_P2G, PS_EV_Grid, PS_EV_G2P, PS_EV_Reproject, PS_EV_Stress, PS_EV_Migrate, PS_EV_Dt;
+
+PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunParams *run, const PSMaterial *mats, const PetscInt bc[6], PSSolver **out)
+{
+  PSSolver      *S;
+  PetscInt       d;
+  const PetscInt *l[3];
+  static PetscBool registered = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (!registered) {
+    PetscClassId cid;
+    PetscCall(PetscClassIdRegister("plyshock solver", &cid));
+    PetscCall(PetscLogEventRegister("PSP2G", cid, &PS_EV_P2G));
+    PetscCall(PetscLogEventRegister("PSGridUpdate", cid, &PS_EV_Grid));
+    PetscCall(PetscLogEventRegister("PSG2P", cid, &PS_EV_G2P));
+    PetscCall(PetscLogEventRegister("PSReproject", cid, &PS_EV_Reproject));
+    PetscCall(PetscLogEventRegister("PSStress", cid, &PS_EV_Stress));
+    PetscCall(PetscLogEventRegister("PSMigrate", cid, &PS_EV_Migrate));
+    PetscCall(PetscLogEventRegister("PSTimeStep", cid, &PS_EV_Dt));
+    registered = PETSC_TRUE;
+  }
+  PetscCall(PetscNew(&S));
+  S->scene = scene;
+  S->run   = *run;
+  S->da    = da;
+  S->sw    = sw;
+  S->dim   = scene->dim;
+  S->pad   = PS_PAD;
+  S->ndamage = scene->ndamage;
+  for (d = 0; d < scene->nbody; d++)
+    if (scene->bodies[d].kind == PS_BODY_LAMINATE) S->has_ply = PETSC_TRUE;
+  PetscCall(PetscMalloc1(scene->nmaterial, &S->mat));
+  PetscCall(PetscArraycpy(S->mat, mats, scene->nmaterial));
+  for (d = 0; d < 3; d++) {
+    S->bc[d][0] = d < S->dim ? (PSBCType)bc[2 * d] : PS_BC_FREE;
+    S->bc[d][1] = d < S->dim ? (PSBCType)bc[2 * d + 1] : PS_BC_FREE;
+    S->h[d]     = d < S->dim ? (scene->upper[d] - scene->lower[d]) / scene->cells[d] : 1.0;
+    S->ih[d]    = 1.0 / S->h[d];
+    S->Dinv[d]  = 4.0 / (S->h[d] * S->h[d]); /* MLS-MPM D_p^-1 of quadratic B-splines */
+  }
+  PetscCall(DMDAGetInfo(da, NULL, NULL, NULL, NULL, &S->nproc[0], &S->nproc[1], &S->nproc[2], NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(da, &l[0], &l[1], &l[2]));
+  for (d = 0; d < 3; d++) {
+    PetscInt r;
+    PetscCall(PetscMalloc1(S->nproc[d] + 1, &S->lx[d]));
+    S->lx[d][0] = 0;
+    for (r = 0; r < S->nproc[d]; r++) S->lx[d][r + 1] = S->lx[d][r] + (d < S->dim ? l[d][r] : 1);
+  }
+  if (S->run.transfer == PS_TRANSFER_APIC) {
+    /* MLS-MPM's D_p = h^2/4 I holds for quadratic B-splines only */
+    PetscCheck(S->run.shape == PS_SHAPE_BSPLINE2, PetscObjectComm((PetscObject)da), PETSC_ERR_ARG_INCOMP, "run.transfer apic needs run.shape bspline2, got %s", PSShapeTypes[S->run.shape]);
+    PetscCheck(scene->need_affine, PetscObjectComm((PetscObject)da), PETSC_ERR_ARG_INCOMP, "run.transfer apic: the markers were made without the affine field (initialise the scene with transfer apic)");
+    PetscCall(DMDACreateCompatibleDMDA(da, 1 + S->dim, &S->daa));
+    PetscCall(DMCreateGlobalVector(S->daa, &S->G));
+    PetscCall(DMCreateLocalVector(S->daa, &S->Gl));
+    PetscCall(PSHaloCreate(S, 1 + S->dim, &S->sfg));
+  } else {
+    PetscCall(DMDACreateCompatibleDMDA(da, S->dim, &S->dav));
+    PetscCall(DMCreateGlobalVector(da, &S->G));
+    PetscCall(DMCreateLocalVector(da, &S->Gl));
+    PetscCall(DMCreateGlobalVector(S->dav, &S->H));
+    PetscCall(DMCreateLocalVector(S->dav, &S->Hl));
+    PetscCall(PSHaloCreate(S, 1 + 2 * S->dim, &S->sfg));
+    PetscCall(PSHaloCreate(S, S->dim, &S->sfh));
+  }
+  {
+    PetscReal rmin = PETSC_MAX_REAL, vc = 1.0;
+    for (d = 0; d < scene->nmaterial; d++) rmin = PetscMin(rmin, mats[d].rho0);
+    for (d = 0; d < S->dim; d++) vc *= S->h[d];
+    S->mass_min = S->run.mass_threshold * rmin * vc;
+  }
+  PetscCall(PSCellOwnership(da, S->cs, S->ce));
+  S->ncell = 1;
+  for (d = 0; d < S->dim; d++) S->ncell *= S->ce[d] - S->cs[d];
+  S->zall = PETSC_TRUE;
+  if (S->run.fbar) PetscCall(PetscMalloc2(PetscMax(S->ncell, 1), &S->cell_V, PetscMax(S->ncell, 1), &S->cell_trL));
+  *out = S;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSSolverDestroy(PSSolver **S)
+{
+  PetscInt d;
+
+  PetscFunctionBeginUser;
+  if (!*S) PetscFunctionReturn(PETSC_SUCCESS);
+  for (d = 0; d < 3; d++) PetscCall(PetscFree((*S)->lx[d]));
+  PetscCall(VecDestroy(&(*S)->G));
+  PetscCall(VecDestroy(&(*S)->Gl));
+  PetscCall(VecDestroy(&(*S)->H));
+  PetscCall(VecDestroy(&(*S)->Hl));
+  PetscCall(DMDestroy(&(*S)->dav));
+  PetscCall(DMDestroy(&(*S)->daa));
+  PetscCall(PetscSFDestroy(&(*S)->sfg));
+  PetscCall(PetscSFDestroy(&(*S)->sfh));
+  PetscCall(PetscFree((*S)->mat));
+  PetscCall(PetscFree((*S)->dx));
+  PetscCall(PetscFree((*S)->shape));
+  PetscCall(PetscFree((*S)->Lp));
+  if ((*S)->cell_V) PetscCall(PetscFree2((*S)->cell_V, (*S)->cell_trL));
+  PetscCall(PetscFree((*S)->gauge_id));
+  PetscCall(PetscFree(*S));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Gauges follow markers by id (chosen at t = 0 as the nearest to each point). */
+PetscErrorCode PSSolverSetGauges(PSSolver *S, PetscInt n, const PetscInt64 ids[])
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(S->gauge_id));
+  S->ngauge = n;
+  PetscCall(PetscMalloc1(PetscMax(n, 1), &S->gauge_id));
+  PetscCall(PetscArraycpy(S->gauge_id, ids, n));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Run options: the deck's values are the defaults, -run_<key> overrides. */
+PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
+{
+  PetscInt shape = r->shape, transfer = r->transfer;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, "run_", "plyshock run options (SI units)", "plyshock");
+  PetscCall(PetscOptionsReal("-t_end", "end time (s)", "plyshock", r->t_end, &r->t_end, NULL));
+  PetscCall(PetscOptionsReal("-cfl", "Courant number", "plyshock", r->cfl, &r->cfl, NULL));
+  PetscCall(PetscOptionsEList("-shape", "shape functions", "plyshock", PSShapeTypes, 3, PSShapeTypes[shape], &shape, NULL));
+  PetscCall(PetscOptionsEList("-transfer", "transfer scheme", "plyshock", PSTransferTypes, 2, PSTransferTypes[transfer], &transfer, NULL));
+  PetscCall(PetscOptionsReal("-output_interval", "time between outputs (s); 0: end only", "plyshock", r->output_interval, &r->output_interval, NULL));
+  PetscCall(PetscOptionsReal("-c_linear", "linear artificial viscosity coefficient", "plyshock", r->c_linear, &r->c_linear, NULL));
+  PetscCall(PetscOptionsReal("-c_quadratic", "quadratic artificial viscosity coefficient", "plyshock", r->c_quadratic, &r->c_quadratic, NULL));
+  PetscCall(PetscOptionsReal("-pic_fraction", "PIC share of the velocity update", "plyshock", r->pic_fraction, &r->pic_fraction, NULL));
+  PetscCall(PetscOptionsReal("-dt_growth", "largest dt_{n+1}/dt_n", "plyshock", r->dt_growth, &r->dt_growth, NULL));
+  PetscCall(PetscOptionsReal("-dt_max", "largest time step (s); 0: none", "plyshock", r->dt_max, &r->dt_max, NULL));
+  PetscCall(PetscOptionsReal("-mass_threshold", "nodes lighter than this share of a full cell carry no velocity", "plyshock", r->mass_threshold, &r->mass_threshold, NULL));
+  PetscCall(PetscOptionsBool("-fbar", "average the volumetric strain rate over each cell (Delta-F-bar, against volumetric locking)", "plyshock", r->fbar, &r->fbar, NULL));
+  PetscCall(PetscOptionsInt("-lanes", "markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar, for checks)", "plyshock", r->lanes, &r->lanes, NULL));
+  PetscCall(PetscOptionsInt("-max_steps", "stop after this many steps (0: none)", "plyshock", r->max_steps, &r->max_steps, NULL));
+  PetscCall(PetscOptionsInt("-history_interval", "steps between history rows", "plyshock", r->history_interval, &r->history_interval, NULL));
+  PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
+  PetscOptionsEnd();
+  r->shape    = (PSShapeType)shape;
+  r->transfer = (PSTransferType)transfer;
+  PetscCheck(r->t_end > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.t_end %g must be > 0 s", (double)r->t_end);
+  PetscCheck(r->cfl > 0 && r->cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.cfl %g must be in (0, 1]", (double)r->cfl);
+  PetscCheck(r->pic_fraction >= 0 && r->pic_fraction <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.pic_fraction %g must be in [0, 1]", (double)r->pic_fraction);
+  PetscCheck(r->transfer == PS_TRANSFER_MUSL || r->pic_fraction == 0, comm, PETSC_ERR_ARG_INCOMP, "run.pic_fraction %g applies to run.transfer musl only (apic is a PIC-type transfer); set it to 0", (double)r->pic_fraction);
+  PetscCheck(r->lanes == 1 || r->lanes == 4, comm, PETSC_ERR_ARG_OUTOFRANGE, "-run_lanes %" PetscInt_FMT " must be 1 or 4", r->lanes);
+  PetscCheck(r->c_linear >= 0 && r->c_quadratic >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "artificial viscosity coefficients (%g, %g) must be >= 0", (double)r->c_linear, (double)r->c_quadratic);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSRunParamsSetFromOptionsDM(DM dm, PSRunParams *r)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PSRunParamsSetFromOptions(PetscObjectComm((PetscObject)dm), r));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,106 @@
+/*
+  step.h - what the phases of the time step share (internal).
+
+  The step (step.c) reads as named phases, each in a file of its own:
+    timestep.c       dt from the CFL condition (PSTimeStep)
+    grid.c           the active node box, grid reset, nodal velocity with the
+                     boundary conditions (PSGridUpdate)
+    transfer_musl.c  MUSL: P2G, G2P with the re-projection (PSP2G, PSG2P, PSReproject)
+    transfer_apic.c  APIC/MLS-MPM: P2G, G2P (PSP2G, PSG2P)
+    stress.c         velocity gradient, F-bar, constitutive update, x_p += dx_p (PSStress)
+    migrate.c        markers out of the domain booked and removed, the rest migrated (PSMigrate)
+    totals.c         conserved totals with the booked losses
+  Suffixes: _p marker, _i node, _c cell.  SI units.
+*/
+#ifndef PLYSHOCK_STEP_H
+#define PLYSHOCK_STEP_H
+
+#include <math.h>
+#include <string.h>
+#include "materials.h"
+#include "shape.h"
+
+/* one log event per phase (registered in solver.c) */
+PETSC_INTERN PetscLogEvent PS_EV_P2G, PS_EV_Grid, PS_EV_G2P, PS_EV_Reproject, PS_EV_Stress, PS_EV_Migrate, PS_EV_Dt;
+
+/* corners of a rank's ghosted local arrays and of its owned nodes (DMDA indices) */
+typedef struct {
+  PetscInt gs[3], gm[3]; /* ghosted corner and size */
+  PetscInt os[3], om[3]; /* owned corner and size */
+} PSIndex;
+
+/* offset of node (i, j, k) in a rank's ghosted local array (in nodes) */
+static inline PetscInt Lidx(const PSIndex *ix, PetscInt i, PetscInt j, PetscInt k)
+{
+  return ((k - ix->gs[2]) * ix->gm[1] + (j - ix->gs[1])) * ix->gm[0] + (i - ix->gs[0]);
+}
+
+/* the registered marker fields of this scene (NULL where not registered) */
+typedef struct {
+  PetscReal *x, *v, *mass, *vol, *V0, *F, *sig, *sdev, *p, *q, *e, *eps_p, *T, *D;
+  PetscReal *axes, *smat; /* anisotropic scenes */
+  PetscReal *C;           /* APIC affine velocity (transfer apic) */
+  PetscInt  *mat, *body, *ply;
+  PetscInt64 *id;
+  PetscInt   n;
+} PSFields;
+
+PETSC_INTERN PetscErrorCode PSGridIndex(DM, PSIndex *);
+PETSC_INTERN PetscErrorCode PSFieldsGet(PSSolver *, PSFields *);
+PETSC_INTERN PetscErrorCode PSFieldsRestore(PSSolver *, PSFields *);
+
+/* the phases */
+PETSC_INTERN PetscErrorCode PSComputeDt(PSSolver *, PetscReal t_stop);
+PETSC_INTERN PetscErrorCode PSGridActiveBox(PSSolver *, const PSFields *, PetscInt box[3][2]);
+PETSC_INTERN PetscErrorCode PSGridReset(PSSolver *, const PSIndex *, const PetscInt box[3][2]);
+PETSC_INTERN void           PSGridVelocity(const PSSolver *, const PSIndex *, const PetscReal *m, PetscInt ms, PetscReal *mv, PetscInt vs);
+PETSC_INTERN void           PSGridUpdateMUSL(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g);
+PETSC_INTERN PetscErrorCode PSTransferMUSL(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSTransferAPIC(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSStressUpdate(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+
+/* GIMP half size of a marker: half its initial size (m) */
+static inline PetscReal HalfSize(PetscInt dim, PetscReal V0)
+{
+  return 0.5 * (dim == 3 ? cbrt(V0) : sqrt(V0));
+}
+
+/* Cauchy stress minus q (the force's stress) as a 3x3 */
+static inline void ForceStress(PetscInt dim, const PetscReal *sg, PetscReal q, PetscReal s[3][3])
+{
+  s[0][0] = sg[0] - q;
+  s[1][1] = sg[1] - q;
+  s[2][2] = sg[2] - q;
+  if (dim == 3) {
+    s[1][2] = s[2][1] = sg[3];
+    s[0][2] = s[2][0] = sg[4];
+    s[0][1] = s[1][0] = sg[5];
+  } else {
+    s[0][1] = s[1][0] = sg[3];
+    s[0][2] = s[2][0] = s[1][2] = s[2][1] = 0.0;
+  }
+}
+
+/* box clipped to the array's corner s and size m (lo >= hi: empty) */
+static inline void Clip(const PetscInt box[3][2], const PetscInt s[3], const PetscInt m[3], PetscInt lo[3], PetscInt hi[3])
+{
+  PetscInt d;
+  for (d = 0; d < 3; d++) {
+    lo[d] = PetscMax(box[d][0], s[d]);
+    hi[d] = PetscMin(box[d][1], s[d] + m[d]);
+  }
+}
+
+/* 4-wide loads and stores (PSv4, solver.h) */
+static inline PSv4 Load4(const PetscReal *p)
+{
+  PSv4 v;
+  memcpy(&v, p, sizeof(v));
+  return v;
+}
+static inline void Store4(PetscReal *p, PSv4 v)
+{
+  memcpy(p, &v, sizeof(v));
+}
+
+#endif

@@ -1,0 +1,177 @@
+/*
+  stress.c - the stress phase of the step (PSStress, solver.h step 5): each
+  marker's velocity gradient L_p (the MUSL gradient of the re-projected nodal
+  velocity, or APIC's C_p), optionally F-bar averaged over its cell, then the
+  constitutive update of its material (materials/), four 3D markers at a time
+  where the material has a 4-lane kernel; then x_p += dx_p and the largest
+  wave speed for the next dt.
+*/
+#include "step.h"
+
+/* L = sum_i v_i (x) grad N_ip at a marker from the ghosted nodal velocities,
+   accumulated in registers */
+static inline void VelocityGradient(PetscInt dim, const PSIndex *ix, const PetscReal *hv, const PSShape *sh, PetscReal L[3][3])
+{
+  const PetscInt n3[3] = {sh->n, sh->n, dim == 3 ? sh->n : 1};
+  PetscReal      l00 = 0, l01 = 0, l02 = 0, l10 = 0, l11 = 0, l12 = 0, l20 = 0, l21 = 0, l22 = 0;
+  PetscInt       a, b, c;
+
+  for (c = 0; c < n3[2]; c++)
+    for (b = 0; b < n3[1]; b++) {
+      const PetscReal  wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
+      const PetscReal *hr  = &hv[dim * Lidx(ix, sh->i0[0], sh->i0[1] + b, sh->i0[2] + c)];
+      if (dim == 3)
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal  g0 = sh->dw[0][a] * wyz, g1 = sh->w[0][a] * dyz, g2 = sh->w[0][a] * wydz;
+          const PetscReal *vn = hr + 3 * a;
+          l00 += vn[0] * g0;
+          l01 += vn[0] * g1;
+          l02 += vn[0] * g2;
+          l10 += vn[1] * g0;
+          l11 += vn[1] * g1;
+          l12 += vn[1] * g2;
+          l20 += vn[2] * g0;
+          l21 += vn[2] * g1;
+          l22 += vn[2] * g2;
+        }
+      else
+        for (a = 0; a < n3[0]; a++) {
+          const PetscReal  g0 = sh->dw[0][a] * wyz, g1 = sh->w[0][a] * dyz;
+          const PetscReal *vn = hr + 2 * a;
+          l00 += vn[0] * g0;
+          l01 += vn[0] * g1;
+          l10 += vn[1] * g0;
+          l11 += vn[1] * g1;
+        }
+    }
+  L[0][0] = l00;
+  L[0][1] = l01;
+  L[0][2] = l02;
+  L[1][0] = l10;
+  L[1][1] = l11;
+  L[1][2] = l12;
+  L[2][0] = l20;
+  L[2][1] = l21;
+  L[2][2] = l22;
+}
+
+/* this rank's local index of the cell holding x (a marker's cell is owned here) */
+static inline PetscInt LocalCell(const PSSolver *S, const PetscReal *x)
+{
+  PetscInt d, k = 0;
+  for (d = S->dim - 1; d >= 0; d--) {
+    PetscInt c = (PetscInt)PetscFloorReal((x[d] - S->scene->lower[d]) * S->ih[d]);
+    c = PetscMin(PetscMax(c, S->cs[d]), S->ce[d] - 1);
+    k = k * (S->ce[d] - S->cs[d]) + (c - S->cs[d]);
+  }
+  return k;
+}
+
+/* L_p: the MUSL gradient of the re-projected velocity, or APIC's C_p */
+static inline void MarkerL(const PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscReal *hv, PetscInt p, PetscReal L[3][3])
+{
+  const PetscInt dim = S->dim;
+  PetscInt       d, e;
+  if (f->C) {
+    for (d = 0; d < 3; d++)
+      for (e = 0; e < 3; e++) L[d][e] = (d < dim && e < dim) ? f->C[p * dim * dim + d * dim + e] : 0.0;
+  } else VelocityGradient(dim, ix, hv, &S->shape[p], L);
+}
+
+/* pointers to marker p's state for the constitutive kernels */
+static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p, PSMarkerState *st)
+{
+  const PetscInt dim = S->dim, ns = PSStressComponents(dim);
+  memset(st, 0, sizeof(*st));
+  st->F     = &f->F[p * dim * dim];
+  st->V0    = f->V0[p];
+  st->vol   = &f->vol[p];
+  st->sdev  = &f->sdev[p * ns];
+  st->sig   = &f->sig[p * ns];
+  st->p     = &f->p[p];
+  st->q     = &f->q[p];
+  st->e     = &f->e[p];
+  st->eps_p = f->eps_p ? &f->eps_p[p] : NULL;
+  st->T     = f->T ? &f->T[p] : NULL;
+  st->D     = f->D ? &f->D[p * S->scene->ndamage] : NULL;
+  if (f->axes) {
+    /* a ply's axes at t = 0 from its body and ply (identity outside laminates) */
+    static const PetscReal I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const PetscInt         k     = f->ply ? f->ply[p] : -1;
+    st->axes0 = k >= 0 ? &S->scene->bodies[f->body[p]].ply_axes[9 * k] : I9;
+    st->axes  = &f->axes[9 * p];
+    st->smat  = &f->smat[6 * p];
+  }
+}
+
+/* 5. velocity gradient, stress update; then move the markers.  Leaves the
+   largest wave speed + |v| + viscous term of this rank's markers in S->smax. */
+PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, const PSIndex *ixp, PetscReal dt)
+{
+  const PetscInt   dim = S->dim;
+  const PSIndex    ix  = *ixp;
+  PSFields         f   = *fp;
+  const PetscReal *hv  = NULL;
+  PetscReal        smax = 0.0, hm = 0.0;
+  PetscInt         p, d;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(PS_EV_Stress, 0, 0, 0, 0));
+  if (S->Hl) PetscCall(VecGetArrayRead(S->Hl, &hv));
+  if (S->run.fbar) {
+    /* Delta-F-bar (Coombs, Augarde et al. 2018; Uintah's pressure
+       stabilisation): each marker's volumetric rate is replaced by its cell's
+       volume-weighted mean, which removes the volumetric locking of
+       near-incompressible (plastic) flow.  A marker's cell at x^n is owned by
+       this rank (migration), so the means need no communication. */
+    PetscCall(PetscArrayzero(S->cell_V, S->ncell));
+    PetscCall(PetscArrayzero(S->cell_trL, S->ncell));
+    for (p = 0; p < f.n; p++) {
+      PetscReal     *Lp = &S->Lp[9 * p];
+      const PetscInt c  = LocalCell(S, &f.x[p * dim]);
+      MarkerL(S, &f, &ix, hv, p, (PetscReal(*)[3])Lp);
+      S->cell_V[c] += f.vol[p];
+      S->cell_trL[c] += f.vol[p] * (Lp[0] + Lp[4] + Lp[8]);
+    }
+    for (p = 0; p < f.n; p++) {
+      PetscReal     *Lp = &S->Lp[9 * p];
+      const PetscInt c  = LocalCell(S, &f.x[p * dim]);
+      const PetscReal shift = (S->cell_trL[c] / S->cell_V[c] - (Lp[0] + Lp[4] + Lp[8])) / dim;
+      for (d = 0; d < dim; d++) Lp[4 * d] += shift;
+    }
+  }
+  for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
+  for (p = 0; p < f.n;) {
+    const PSMaterial *M = &S->mat[f.mat[p]];
+    PetscReal         L[4][3][3], J[4], cs[4];
+    PSMarkerState     st[4];
+    PetscInt          k, nb = 1;
+
+    /* four 3D markers of one material in a row go through the 4-lane kernel */
+    if (dim == 3 && S->run.lanes == 4 && M->update4_fn && p + 4 <= f.n && f.mat[p + 1] == f.mat[p] && f.mat[p + 2] == f.mat[p] && f.mat[p + 3] == f.mat[p]) nb = 4;
+    for (k = 0; k < nb; k++) {
+      if (S->run.fbar) PetscCall(PetscArraycpy(&L[k][0][0], &S->Lp[9 * (p + k)], 9));
+      else {
+        PetscCall(PetscArrayzero(&L[k][0][0], 9));
+        MarkerL(S, &f, &ix, hv, p + k, L[k]);
+      }
+      MarkerState(S, &f, p + k, &st[k]);
+    }
+    if (nb == 4) PetscCall(M->update4_fn(M, (const PetscReal(*)[3][3])L, dt, hm, S->run.c_linear, S->run.c_quadratic, st, J, cs));
+    else PetscCall(M->update_fn(M, dim, L[0], dt, hm, S->run.c_linear, S->run.c_quadratic, &st[0], &J[0], &cs[0]));
+    for (k = 0; k < nb; k++, p++) {
+      PetscReal v2 = 0.0;
+      if (PetscUnlikely(J[k] <= 0.0)) PetscCall(PSMarkerCheckJ(J[k], f.id[p], f.mat[p], S->step + 1, S->t));
+      for (d = 0; d < dim; d++) {
+        f.x[p * dim + d] += S->dx[p * dim + d];
+        v2 += f.v[p * dim + d] * f.v[p * dim + d];
+      }
+      /* the viscous term tightens the CFL limit in compression (q / (rho c)) */
+      smax = PetscMax(smax, cs[k] + PetscSqrtReal(v2) + (f.q[p] > 0.0 ? f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs[k], 1e-300)) : 0.0));
+    }
+  }
+  if (S->Hl) PetscCall(VecRestoreArrayRead(S->Hl, &hv));
+  PetscCall(PetscLogEventEnd(PS_EV_Stress, 0, 0, 0, 0));
+  S->smax = smax;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
