@@ -3,6 +3,7 @@
   deck's run: values are the defaults, -run_<key> overrides), gauges, and the
   log events of the step's phases (step.h).
 */
+#include <stdio.h>
 #include "step.h"
 
 const char *const PSShapeTypes[]    = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
@@ -58,8 +59,6 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
     for (r = 0; r < S->nproc[d]; r++) S->lx[d][r + 1] = S->lx[d][r] + (d < S->dim ? l[d][r] : 1);
   }
   if (S->run.transfer == PS_TRANSFER_APIC) {
-    /* MLS-MPM's D_p = h^2/4 I holds for quadratic B-splines only */
-    PetscCheck(S->run.shape == PS_SHAPE_BSPLINE2, PetscObjectComm((PetscObject)da), PETSC_ERR_ARG_INCOMP, "run.transfer apic needs run.shape bspline2, got %s", PSShapeTypes[S->run.shape]);
     PetscCheck(scene->need_affine, PetscObjectComm((PetscObject)da), PETSC_ERR_ARG_INCOMP, "run.transfer apic: the markers were made without the affine field (initialise the scene with transfer apic)");
     PetscCall(DMDACreateCompatibleDMDA(da, 1 + S->dim, &S->daa));
     PetscCall(DMCreateGlobalVector(S->daa, &S->G));
@@ -125,8 +124,9 @@ PetscErrorCode PSSolverSetGauges(PSSolver *S, PetscInt n, const PetscInt64 ids[]
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Run options: the deck's values are the defaults, -run_<key> overrides. */
-PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
+/* Run options: the deck's values are the defaults, -run_<key> overrides.  The
+   one place run options are read; no checks here (PSRunParamsCheck). */
+PetscErrorCode PSRunParamsRead(MPI_Comm comm, PSRunParams *r)
 {
   PetscInt shape = r->shape, transfer = r->transfer;
 
@@ -151,18 +151,53 @@ PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
   PetscOptionsEnd();
   r->shape    = (PSShapeType)shape;
   r->transfer = (PSTransferType)transfer;
-  PetscCheck(r->t_end > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.t_end %g must be > 0 s", (double)r->t_end);
-  PetscCheck(r->cfl > 0 && r->cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.cfl %g must be in (0, 1]", (double)r->cfl);
-  PetscCheck(r->pic_fraction >= 0 && r->pic_fraction <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "run.pic_fraction %g must be in [0, 1]", (double)r->pic_fraction);
-  PetscCheck(r->transfer == PS_TRANSFER_MUSL || r->pic_fraction == 0, comm, PETSC_ERR_ARG_INCOMP, "run.pic_fraction %g applies to run.transfer musl only (apic is a PIC-type transfer); set it to 0", (double)r->pic_fraction);
-  PetscCheck(r->lanes == 1 || r->lanes == 4, comm, PETSC_ERR_ARG_OUTOFRANGE, "-run_lanes %" PetscInt_FMT " must be 1 or 4", r->lanes);
-  PetscCheck(r->c_linear >= 0 && r->c_quadratic >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "artificial viscosity coefficients (%g, %g) must be >= 0", (double)r->c_linear, (double)r->c_quadratic);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode PSRunParamsSetFromOptionsDM(DM dm, PSRunParams *r)
+/* The one place the run parameters' values are checked, after the command line
+   has had its say (the Python front end checks the deck's structure: keys,
+   types and names; see README "Input checks").  On the first value out of
+   range *key names its deck key and msg says why; *key = NULL when all pass. */
+PetscErrorCode PSRunParamsCheck(const PSRunParams *r, const char **key, char msg[], size_t len)
 {
   PetscFunctionBeginUser;
-  PetscCall(PSRunParamsSetFromOptions(PetscObjectComm((PetscObject)dm), r));
+  *key = NULL;
+  msg[0] = 0;
+#define RANGE(cond, k, fmt, ...) \
+  if (!(cond)) { \
+    *key = k; \
+    snprintf(msg, len, fmt, __VA_ARGS__); /* plain %g: 5, not PETSc's 5. */ \
+    PetscFunctionReturn(PETSC_SUCCESS); \
+  }
+  RANGE(r->t_end > 0 && r->t_end < PETSC_INFINITY, "run.t_end", "%g is out of range; allowed (0, inf) s", (double)r->t_end);
+  RANGE(r->cfl > 0 && r->cfl <= 1, "run.cfl", "%g is out of range; allowed (0, 1]", (double)r->cfl);
+  RANGE(r->output_interval >= 0, "run.output_interval", "%g is out of range; allowed [0, inf) s", (double)r->output_interval);
+  RANGE(r->c_linear >= 0 && r->c_linear <= 100, "run.artificial_viscosity.c_linear", "%g is out of range; allowed [0, 100]", (double)r->c_linear);
+  RANGE(r->c_quadratic >= 0 && r->c_quadratic <= 100, "run.artificial_viscosity.c_quadratic", "%g is out of range; allowed [0, 100]", (double)r->c_quadratic);
+  RANGE(r->pic_fraction >= 0 && r->pic_fraction <= 1, "run.pic_fraction", "%g is out of range; allowed [0, 1]", (double)r->pic_fraction);
+  RANGE(r->dt_growth >= 1 && r->dt_growth <= 10, "run.dt_growth", "%g is out of range; allowed [1, 10]", (double)r->dt_growth);
+  RANGE(r->dt_max >= 0, "run.dt_max", "%g is out of range; allowed [0, inf) s", (double)r->dt_max);
+  RANGE(r->mass_threshold >= 0 && r->mass_threshold <= 0.5, "run.mass_threshold", "%g is out of range; allowed [0, 0.5]", (double)r->mass_threshold);
+  RANGE(r->max_steps >= 0, "run.max_steps", "%" PetscInt_FMT " is out of range; allowed [0, inf)", r->max_steps);
+  RANGE(r->history_interval >= 1, "run.history_interval", "%" PetscInt_FMT " is out of range; allowed [1, inf)", r->history_interval);
+  RANGE(r->progress_interval >= 0, "run.progress_interval", "%" PetscInt_FMT " is out of range; allowed [0, inf)", r->progress_interval);
+  RANGE(r->lanes == 1 || r->lanes == 4, "-run_lanes", "%" PetscInt_FMT " must be 1 or 4", r->lanes);
+  /* MLS-MPM's D_p = h^2/4 I holds for quadratic B-splines only */
+  RANGE(r->transfer != PS_TRANSFER_APIC || r->shape == PS_SHAPE_BSPLINE2, "run.transfer", "apic (MLS-MPM, D_p = h^2/4 I) needs run.shape bspline2, got %s", PSShapeTypes[r->shape]);
+  RANGE(r->transfer != PS_TRANSFER_APIC || r->pic_fraction == 0, "run.pic_fraction", "applies to transfer musl only (apic is a PIC-type transfer): must be 0, got %g", (double)r->pic_fraction);
+#undef RANGE
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Read and check: for callers of the library without the front end. */
+PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm comm, PSRunParams *r)
+{
+  const char *key;
+  char        msg[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(PSRunParamsRead(comm, r));
+  PetscCall(PSRunParamsCheck(r, &key, msg, sizeof(msg)));
+  PetscCheck(!key, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: %s", key, msg);
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -319,9 +319,7 @@ def test_run_input_errors():
     with pytest.raises(DeckError) as e:
         core.make_solver(m)
     assert e.value.path == "materials[0]"
-    with pytest.raises(DeckError) as e:
-        Run(t_end=-1.0).validate()
-    assert e.value.path == "run.t_end"
+    # the deck's structure is checked by Run.validate ...
     with pytest.raises(DeckError) as e:
         Run(t_end=1.0, shape="cubic").validate()
     assert e.value.path == "run.shape"
@@ -331,12 +329,40 @@ def test_run_input_errors():
     with pytest.raises(DeckError) as e:
         Run(t_end=1.0, transfer="flip").validate()
     assert e.value.path == "run.transfer" and "musl|apic" in str(e.value)
-    with pytest.raises(DeckError) as e:                   # MLS-MPM's D_p = h^2/4 I: quadratic B-splines only
-        Run(t_end=1.0, transfer="apic", shape="gimp").validate()
-    assert e.value.path == "run.transfer" and "bspline2" in str(e.value)
     with pytest.raises(DeckError) as e:
-        Run(t_end=1.0, transfer="apic", shape="bspline2", pic_fraction=0.1).validate()
-    assert e.value.path == "run.pic_fraction"
+        Run(t_end="soon").validate()
+    assert e.value.path == "run.t_end"
+    # ... the values' ranges and combinations in one place, C's PSRunParamsCheck
+    cases = [(dict(t_end=-1.0), "run.t_end", "allowed (0, inf)"),
+             (dict(cfl=1.5), "run.cfl", "allowed (0, 1]"),
+             (dict(artificial_viscosity={"c_linear": -1}), "run.artificial_viscosity.c_linear", "allowed [0, 100]"),
+             (dict(transfer="apic", shape="gimp"), "run.transfer", "bspline2"),       # MLS-MPM's D_p = h^2/4 I
+             (dict(transfer="apic", shape="bspline2", pic_fraction=0.1), "run.pic_fraction", "musl only"),
+             (dict(dt_growth=0.5), "run.dt_growth", "allowed [1, 10]")]
+    for kw, path, words in cases:
+        scene.run = Run(**{"t_end": 1e-6, **kw}).validate()
+        with pytest.raises(DeckError) as e:
+            core.run_options(scene)
+        assert e.value.path == path and words in str(e.value), (kw, str(e.value))
+
+
+def test_run_option_errors_from_the_command_line(tmpdir_mpi):
+    """A -run_<key> option is checked like the deck's value it overrides, before
+    any work: exit 2, the key named, no traceback."""
+    deck = os.path.join(tmpdir_mpi, "d.yaml")
+    if COMM.rank == 0:
+        with open(deck, "w") as f:
+            yaml.safe_dump({"dimension": 2, "grid": {"lower": [0, 0], "upper": [1e-3, 1e-3], "cells": [4, 4]},
+                            "materials": [{"name": "cu", "density": 8930.0,
+                                           "eos": {"type": "mie-gruneisen", "c0": 3940.0, "s": 1.489, "gamma0": 2.02}}],
+                            "bodies": [{"name": "b", "box": {"lower": [0, 0], "upper": [5e-4, 5e-4]}, "material": "cu"}],
+                            "run": {"t_end": 1e-7}}, f)
+    for opt, val, words in [("-run_cfl", "5", "run.cfl: 5 is out of range; allowed (0, 1]"),
+                            ("-run_transfer", "apic", "run.transfer: apic (MLS-MPM"),
+                            ("-run_shape", "cubic", "-run_shape: must be one of linear|gimp|bspline2")]:
+        code, out, err = run_cli(["run", deck, "-o", os.path.join(tmpdir_mpi, "o"), opt, val])
+        assert code == 2 and words in err and "Traceback" not in err, (opt, code, err)
+        assert not os.path.exists(os.path.join(tmpdir_mpi, "o", "history.csv"))
 
 
 def test_verify_measures_errors_and_plots(tmpdir_mpi):

@@ -13,6 +13,8 @@ import numpy as np
 
 cdef extern from "plyshock.h":
     ctypedef int PetscErrorCode
+    ctypedef void *MPI_Comm
+    MPI_Comm PETSC_COMM_WORLD
     ctypedef int PetscInt
     ctypedef long long PetscInt64
     ctypedef double PetscReal
@@ -124,7 +126,8 @@ cdef extern from "solver.h":
         PetscInt step
     PetscErrorCode PSSolverCreate(const PSScene *, PetscDM, PetscDM, const PSRunParams *, const PSMaterial *, const PetscInt *, PSSolver **)
     PetscErrorCode PSSolverDestroy(PSSolver **)
-    PetscErrorCode PSRunParamsSetFromOptionsDM(PetscDM, PSRunParams *)
+    PetscErrorCode PSRunParamsRead(MPI_Comm, PSRunParams *)
+    PetscErrorCode PSRunParamsCheck(const PSRunParams *, const char **, char *, size_t)
     PetscErrorCode PSSolverMaxSpeed(PSSolver *)
     PetscErrorCode PSSolverStep(PSSolver *, PetscReal)
     PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *)
@@ -334,6 +337,48 @@ TRANSFERS = {"musl": PS_TRANSFER_MUSL, "apic": PS_TRANSFER_APIC}
 TRANSFER_NAMES = {v: k for k, v in TRANSFERS.items()}
 
 
+cdef fill_run(PSRunParams *r, dict run):
+    r.t_end = run["t_end"]
+    r.cfl = run["cfl"]
+    r.shape = SHAPES[run["shape"]]
+    r.transfer = TRANSFERS[run["transfer"]]
+    r.output_interval = run["output_interval"]
+    r.c_linear = run["c_linear"]
+    r.c_quadratic = run["c_quadratic"]
+    r.pic_fraction = run["pic_fraction"]
+    r.dt_growth = run["dt_growth"]
+    r.mass_threshold = run["mass_threshold"]
+    r.max_steps = run["max_steps"]
+    r.history_interval = run["history_interval"]
+    r.progress_interval = run["progress_interval"]
+    r.dt_max = run["dt_max"]
+    r.fbar = <PetscBool>(1 if run.get("fbar") else 0)
+    r.lanes = run.get("lanes", 4)
+
+
+cdef dict run_dict(const PSRunParams *r):
+    return dict(t_end=r.t_end, cfl=r.cfl, shape=SHAPE_NAMES[r.shape], transfer=TRANSFER_NAMES[r.transfer],
+                output_interval=r.output_interval, c_linear=r.c_linear, c_quadratic=r.c_quadratic,
+                pic_fraction=r.pic_fraction, dt_growth=r.dt_growth, mass_threshold=r.mass_threshold,
+                max_steps=r.max_steps, history_interval=r.history_interval, progress_interval=r.progress_interval,
+                dt_max=r.dt_max, fbar=bool(r.fbar), lanes=r.lanes)
+
+
+def run_params(dict run):
+    """The deck's run values merged with the -run_<key> options (C reads them),
+    and the one check of their ranges: (params, key, message); key is None
+    when every value is in range."""
+    cdef PSRunParams r
+    cdef const char *key = NULL
+    cdef char msg[256]
+    fill_run(&r, run)
+    CHK(PSRunParamsRead(PETSC_COMM_WORLD, &r))
+    CHK(PSRunParamsCheck(&r, &key, msg, sizeof(msg)))
+    if key == NULL:
+        return run_dict(&r), None, None
+    return run_dict(&r), key.decode(), msg.decode()
+
+
 cdef class Solver:
     """The C solver on a scene's grid and markers (keeps them alive)."""
     cdef PSSolver *S
@@ -346,23 +391,7 @@ cdef class Solver:
         cdef int i, k
         self.S = NULL
         self.keep = (scene, da, sw)
-        self.r.t_end = run["t_end"]
-        self.r.cfl = run["cfl"]
-        self.r.shape = SHAPES[run["shape"]]
-        self.r.transfer = TRANSFERS[run["transfer"]]
-        self.r.output_interval = run["output_interval"]
-        self.r.c_linear = run["c_linear"]
-        self.r.c_quadratic = run["c_quadratic"]
-        self.r.pic_fraction = run["pic_fraction"]
-        self.r.dt_growth = run["dt_growth"]
-        self.r.mass_threshold = run["mass_threshold"]
-        self.r.max_steps = run["max_steps"]
-        self.r.history_interval = run["history_interval"]
-        self.r.progress_interval = run["progress_interval"]
-        self.r.dt_max = run["dt_max"]
-        self.r.fbar = <PetscBool>(1 if run.get("fbar") else 0)
-        self.r.lanes = 4
-        CHK(PSRunParamsSetFromOptionsDM(da.dm, &self.r))
+        fill_run(&self.r, run)
         mats = <PSMaterial *>calloc(max(1, len(materials)), sizeof(PSMaterial))
         try:
             for i, md in enumerate(materials):
@@ -379,10 +408,7 @@ cdef class Solver:
 
     @property
     def run_params(self):
-        return dict(t_end=self.r.t_end, cfl=self.r.cfl, shape=SHAPE_NAMES[self.r.shape],
-                    transfer=TRANSFER_NAMES[self.r.transfer], output_interval=self.r.output_interval,
-                    c_linear=self.r.c_linear, c_quadratic=self.r.c_quadratic, pic_fraction=self.r.pic_fraction,
-                    max_steps=self.r.max_steps, fbar=bool(self.r.fbar))
+        return run_dict(&self.r)
 
     @property
     def time(self):

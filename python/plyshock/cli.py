@@ -220,6 +220,7 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None):
 def _run(scene, text, outdir, restart=None):
     from petsc4py import PETSc
     from . import core
+    core.run_options(scene)                 # run errors before any work
     m = core.initialize(scene, restart=bool(restart))
     S = core.make_solver(m, restart)      # material and run errors before any step
     for w in core.damage_warnings(scene):

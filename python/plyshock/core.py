@@ -56,18 +56,31 @@ def scene_to_c(scene):
                 need_affine=transfer(scene) == "apic")
 
 
-def transfer(scene):
-    """The run's transfer scheme: the deck's, or -run_transfer (it decides
-    which marker fields exist, so it is read before the markers are made)."""
+def run_options(scene):
+    """The run parameters in force: the deck's run: section with the
+    -run_<key> options of the command line over it, checked in one place
+    (C's PSRunParamsCheck).  Raises DeckError naming the key before any work."""
     from petsc4py import PETSc
-    from .scene import TRANSFERS
-    t = PETSc.Options().getString("run_transfer", scene.run.transfer if scene.run else "musl")
-    if t not in TRANSFERS:
-        raise DeckError("-run_transfer", f"must be one of {'|'.join(TRANSFERS)}, got {t!r}")
-    shape = PETSc.Options().getString("run_shape", scene.run.shape if scene.run else "gimp")
-    if t == "apic" and shape != "bspline2":
-        raise DeckError("run.transfer", f"apic (MLS-MPM, D_p = h^2/4 I) needs run.shape bspline2, got {shape!r}")
-    return t
+    from . import _core
+    from .scene import SHAPE_FUNCTIONS, TRANSFERS
+    opts = PETSc.Options()
+    for key, names in (("shape", SHAPE_FUNCTIONS), ("transfer", TRANSFERS)):
+        v = opts.getString(f"run_{key}") if opts.hasName(f"run_{key}") else None
+        if v is not None and v not in names:
+            raise DeckError(f"-run_{key}", f"must be one of {'|'.join(names)}, got {v!r}")
+    if scene.run is None:
+        raise DeckError("run", "a run needs a run: section with at least t_end (s)")
+    params, key, msg = _core.run_params(run_to_c(scene.run))
+    if key is not None:
+        opt = "-run_lanes" if key == "-run_lanes" else "-run_" + key.split(".")[-1]
+        raise DeckError(key, f"{msg} (the deck's {key} or the option {opt})" if key != "-run_lanes" else msg)
+    return params
+
+
+def transfer(scene):
+    """The run's transfer scheme (it decides which marker fields exist, so it
+    is known before the markers are made); musl for a deck without a run."""
+    return run_options(scene)["transfer"] if scene.run is not None else "musl"
 
 
 def c_scene(scene):
@@ -410,12 +423,11 @@ def make_solver(m, restart=None):
     restart: a checkpoint.h5 to continue from (m from initialize(restart=True))."""
     from . import _core
     scene = m.scene
-    if scene.run is None:
-        raise DeckError("run", "a run needs a run: section with at least t_end (s)")
+    params = run_options(scene)
     mats = [material_to_c(x, f"materials[{i}]") for i, x in enumerate(scene.materials)]
     faces = ["x-", "x+", "y-", "y+", "z-", "z+"][: 2 * scene.dimension]
     bc = [BC_CODE[scene.grid.boundary[f]] for f in faces] + [0] * (6 - len(faces))
-    S = _core.Solver(m.cs, m.da, m.sw, run_to_c(scene.run), mats, bc)
+    S = _core.Solver(m.cs, m.da, m.sw, params, mats, bc)
     if scene.gauges and not restart:
         S.set_gauges(gauge_markers(m, [g["point"] for g in scene.gauges]))
     if restart:
