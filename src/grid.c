@@ -80,15 +80,13 @@ static PetscErrorCode ZeroBox(Vec v, PetscInt dof, const PetscInt s[3], const Pe
    the local arrays alone (halo.c); the global vectors serve output. */
 PetscErrorCode PSGridReset(PSSolver *S, const PSIndex *ix, const PetscInt box[3][2])
 {
-  const PetscInt dim = S->dim, dofg = S->run.transfer == PS_TRANSFER_APIC ? 1 + dim : 1 + 2 * dim;
-
   PetscFunctionBeginUser;
   if (S->zall) {
     PetscCall(VecZeroEntries(S->Gl));
     if (S->Hl) PetscCall(VecZeroEntries(S->Hl));
   } else {
-    PetscCall(ZeroBox(S->Gl, dofg, ix->gs, ix->gm, S->zbox));
-    PetscCall(ZeroBox(S->Hl, dim, ix->gs, ix->gm, S->zbox));
+    PetscCall(ZeroBox(S->Gl, PSGridDof(S), ix->gs, ix->gm, S->zbox));
+    PetscCall(ZeroBox(S->Hl, PSReprojectDof(S), ix->gs, ix->gm, S->zbox));
   }
   S->zall = PETSC_FALSE;
   PetscCall(PetscArraycpy(&S->zbox[0][0], &box[0][0], 6));
@@ -119,12 +117,12 @@ void PSGridVelocity(const PSSolver *S, const PSIndex *ix, const PetscReal *m, Pe
       }
 }
 
-/* MUSL's grid update on nodes holding [m, mv, f] (dof 1 + 2 dim):
-   v_old = mv/m, v_new = v_old + dt f/m with the boundary conditions; the node
-   keeps [m, v_new, v_new - v_old] for G2P. */
+/* MUSL's grid update on nodes holding [m, mv, .., f] (PSGridDof; f in the
+   last dim reals): v_old = mv/m, v_new = v_old + dt f/m with the boundary
+   conditions; the node keeps [m, v_new, .., v_new - v_old] for G2P. */
 void PSGridUpdateMUSL(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscReal *g)
 {
-  const PetscInt dim = S->dim, dof = 1 + 2 * dim;
+  const PetscInt dim = S->dim, dof = PSGridDof(S), fo = dof - dim;
   PetscInt       a, b, c, d, lo[3], hi[3];
 
   Clip(S->zbox, ix->os, ix->om, lo, hi);
@@ -134,15 +132,16 @@ void PSGridUpdateMUSL(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscR
         const PetscInt ip[3] = {a - S->pad, b - S->pad, dim == 3 ? c - S->pad : 0};
         PetscReal     *gn    = &g[dof * Lidx(ix, a, b, c)], vo[3] = {0, 0, 0}, vn[3] = {0, 0, 0};
         if (gn[0] > S->mass_min) {
+          const PetscReal im = 1.0 / gn[0];
           for (d = 0; d < dim; d++) {
-            vo[d] = gn[1 + d] / gn[0];
-            vn[d] = vo[d] + dt * gn[1 + dim + d] / gn[0];
+            vo[d] = gn[1 + d] * im;
+            vn[d] = vo[d] + dt * gn[fo + d] * im;
           }
           NodeBC(S, ip, vn);
         }
         for (d = 0; d < dim; d++) {
-          gn[1 + d]       = vn[d];
-          gn[1 + dim + d] = vn[d] - vo[d];
+          gn[1 + d]  = vn[d];
+          gn[fo + d] = vn[d] - vo[d];
         }
       }
 }

@@ -84,6 +84,7 @@ typedef PetscErrorCode (*PSUpdate4Fn)(const PSMaterial *, const PetscReal L[4][3
 /* 4-wide vectors of reals and of lane masks (GCC/Clang vector extension; AVX2
    with -march=native, plain scalar code elsewhere) */
 typedef PetscReal  PSv4 __attribute__((vector_size(4 * sizeof(PetscReal))));
+typedef PetscReal  PSv8 __attribute__((vector_size(8 * sizeof(PetscReal)))); /* one AVX-512 register, two AVX2 ones */
 typedef PetscInt64 PSm4 __attribute__((vector_size(4 * sizeof(PetscInt64))));
 
 /* Orthotropic ply data (material axes 1 = fiber, 2, 3), SI units. */
@@ -152,11 +153,12 @@ typedef struct {
   PSRunParams    run;
   PSMaterial    *mat;            /* scene->nmaterial */
   PSBCType       bc[3][2];       /* per direction, lower and upper face */
-  DM             da;             /* grid: dof = 1 + 2 dim (m, mv, f), PS_PAD nodes outside the domain */
-  DM             dav;            /* the same grid with dof = dim (re-projected velocity; musl) */
-  DM             daa;            /* the same grid with dof = 1 + dim (m, mv then v; apic) */
+  DM             da;             /* grid nodes, PS_PAD nodes outside the domain on each side */
+  DM             dag;            /* the same grid with the step's node layout of G (step.h: PSGridDof) */
+  DM             dav;            /* the same grid with the re-projection's layout (musl; PSReprojectDof) */
   DM             sw;             /* markers */
-  Vec            G, Gl, H, Hl;   /* grid vectors: global (output) and ghosted local (the step) (musl: G on da, H on dav; apic: G on daa) */
+  Vec            G, Gl, H, Hl;   /* grid vectors: global (output) and ghosted local (the step) (G on dag, H on dav) */
+  PetscReal     *gbuf, *hbuf;    /* the allocations behind Gl and Hl (their arrays start on a 64-byte boundary) */
   PetscSF        sfg, sfh;       /* ghost exchange of Gl and Hl (halo.c) */
   PetscInt       dim, pad;
   PetscReal      h[3];           /* cell size (m) */

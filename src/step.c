@@ -21,7 +21,7 @@ static PetscErrorCode EnsureScratch(PSSolver *S, PetscInt n)
   S->ncache = (PetscInt)(1.2 * n) + 16;
   PetscCall(PetscMalloc1(S->ncache * S->dim, &S->dx));
   if (S->run.transfer == PS_TRANSFER_MUSL) PetscCall(PetscMalloc1(S->ncache, &S->shape));
-  if (S->run.fbar) PetscCall(PetscMalloc1(9 * S->ncache, &S->Lp));
+  if (S->run.transfer == PS_TRANSFER_MUSL || S->run.fbar) PetscCall(PetscMalloc1(9 * S->ncache, &S->Lp));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -42,7 +42,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PetscCall(PSGridReset(S, &ix, box));
   if (S->run.transfer == PS_TRANSFER_APIC) PetscCall(PSTransferAPIC(S, &f, &ix, S->dt));
   else PetscCall(PSTransferMUSL(S, &f, &ix, S->dt));
-  PetscCall(PSStressUpdate(S, &f, &ix, S->dt));
+  PetscCall(PSStressUpdate(S, &f, S->dt));
   PetscCall(PSFieldsRestore(S, &f));
   smax = S->smax;
   PetscCallMPI(MPI_Allreduce(&smax, &S->smax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)S->sw)));

@@ -45,6 +45,18 @@ typedef struct {
   PetscInt   n;
 } PSFields;
 
+/* Reals per node of the step's grid array G: apic [m, mv] (1 + dim); musl 3D
+   [m, mv | 0, f] (two 4-wide vectors), 2D [m, mv, f]; and of the MUSL
+   re-projection H: 3D [0, mv], 2D [mv] (transfer_musl.c) */
+static inline PetscInt PSGridDof(const PSSolver *S)
+{
+  return S->run.transfer == PS_TRANSFER_APIC ? 1 + S->dim : (S->dim == 3 ? 8 : 5);
+}
+static inline PetscInt PSReprojectDof(const PSSolver *S)
+{
+  return S->dim == 3 ? 4 : 2;
+}
+
 PETSC_INTERN PetscErrorCode PSGridIndex(DM, PSIndex *);
 PETSC_INTERN PetscErrorCode PSFieldsGet(PSSolver *, PSFields *);
 PETSC_INTERN PetscErrorCode PSFieldsRestore(PSSolver *, PSFields *);
@@ -57,7 +69,7 @@ PETSC_INTERN void           PSGridVelocity(const PSSolver *, const PSIndex *, co
 PETSC_INTERN void           PSGridUpdateMUSL(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g);
 PETSC_INTERN PetscErrorCode PSTransferMUSL(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSTransferAPIC(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
-PETSC_INTERN PetscErrorCode PSStressUpdate(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSStressUpdate(PSSolver *, PSFields *, PetscReal dt);
 
 /* GIMP half size of a marker: half its initial size (m) */
 static inline PetscReal HalfSize(PetscInt dim, PetscReal V0)
@@ -101,6 +113,24 @@ static inline PSv4 Load4(const PetscReal *p)
 static inline void Store4(PetscReal *p, PSv4 v)
 {
   memcpy(p, &v, sizeof(v));
+}
+static inline PSv8 Load8(const PetscReal *p)
+{
+  PSv8 v;
+  memcpy(&v, p, sizeof(v));
+  return v;
+}
+static inline void Store8(PetscReal *p, PSv8 v)
+{
+  memcpy(p, &v, sizeof(v));
+}
+/* (a, a): four reals twice */
+static inline PSv8 Load4Twice(const PetscReal *p)
+{
+  PSv8 v;
+  memcpy(&v, p, 4 * sizeof(PetscReal));
+  memcpy((char *)&v + 4 * sizeof(PetscReal), p, 4 * sizeof(PetscReal));
+  return v;
 }
 
 #endif

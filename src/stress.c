@@ -1,59 +1,13 @@
 /*
   stress.c - the stress phase of the step (PSStress, solver.h step 5): each
   marker's velocity gradient L_p (the MUSL gradient of the re-projected nodal
-  velocity, or APIC's C_p), optionally F-bar averaged over its cell, then the
+  velocity, computed by the transfer, or APIC's C_p), optionally F-bar
+  averaged over its cell, then the
   constitutive update of its material (materials/), four 3D markers at a time
   where the material has a 4-lane kernel; then x_p += dx_p and the largest
   wave speed for the next dt.
 */
 #include "step.h"
-
-/* L = sum_i v_i (x) grad N_ip at a marker from the ghosted nodal velocities,
-   accumulated in registers */
-static inline void VelocityGradient(PetscInt dim, const PSIndex *ix, const PetscReal *hv, const PSShape *sh, PetscReal L[3][3])
-{
-  const PetscInt n3[3] = {sh->n, sh->n, dim == 3 ? sh->n : 1};
-  PetscReal      l00 = 0, l01 = 0, l02 = 0, l10 = 0, l11 = 0, l12 = 0, l20 = 0, l21 = 0, l22 = 0;
-  PetscInt       a, b, c;
-
-  for (c = 0; c < n3[2]; c++)
-    for (b = 0; b < n3[1]; b++) {
-      const PetscReal  wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
-      const PetscReal *hr  = &hv[dim * Lidx(ix, sh->i0[0], sh->i0[1] + b, sh->i0[2] + c)];
-      if (dim == 3)
-        for (a = 0; a < n3[0]; a++) {
-          const PetscReal  g0 = sh->dw[0][a] * wyz, g1 = sh->w[0][a] * dyz, g2 = sh->w[0][a] * wydz;
-          const PetscReal *vn = hr + 3 * a;
-          l00 += vn[0] * g0;
-          l01 += vn[0] * g1;
-          l02 += vn[0] * g2;
-          l10 += vn[1] * g0;
-          l11 += vn[1] * g1;
-          l12 += vn[1] * g2;
-          l20 += vn[2] * g0;
-          l21 += vn[2] * g1;
-          l22 += vn[2] * g2;
-        }
-      else
-        for (a = 0; a < n3[0]; a++) {
-          const PetscReal  g0 = sh->dw[0][a] * wyz, g1 = sh->w[0][a] * dyz;
-          const PetscReal *vn = hr + 2 * a;
-          l00 += vn[0] * g0;
-          l01 += vn[0] * g1;
-          l10 += vn[1] * g0;
-          l11 += vn[1] * g1;
-        }
-    }
-  L[0][0] = l00;
-  L[0][1] = l01;
-  L[0][2] = l02;
-  L[1][0] = l10;
-  L[1][1] = l11;
-  L[1][2] = l12;
-  L[2][0] = l20;
-  L[2][1] = l21;
-  L[2][2] = l22;
-}
 
 /* this rank's local index of the cell holding x (a marker's cell is owned here) */
 static inline PetscInt LocalCell(const PSSolver *S, const PetscReal *x)
@@ -67,15 +21,12 @@ static inline PetscInt LocalCell(const PSSolver *S, const PetscReal *x)
   return k;
 }
 
-/* L_p: the MUSL gradient of the re-projected velocity, or APIC's C_p */
-static inline void MarkerL(const PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscReal *hv, PetscInt p, PetscReal L[3][3])
+/* APIC's L_p = C_p as a 3x3 */
+static inline void AffineL(PetscInt dim, const PetscReal *C, PetscReal L[9])
 {
-  const PetscInt dim = S->dim;
-  PetscInt       d, e;
-  if (f->C) {
-    for (d = 0; d < 3; d++)
-      for (e = 0; e < 3; e++) L[d][e] = (d < dim && e < dim) ? f->C[p * dim * dim + d * dim + e] : 0.0;
-  } else VelocityGradient(dim, ix, hv, &S->shape[p], L);
+  PetscInt d, e;
+  for (d = 0; d < 3; d++)
+    for (e = 0; e < 3; e++) L[3 * d + e] = (d < dim && e < dim) ? C[d * dim + e] : 0.0;
 }
 
 /* pointers to marker p's state for the constitutive kernels */
@@ -106,18 +57,15 @@ static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p,
 
 /* 5. velocity gradient, stress update; then move the markers.  Leaves the
    largest wave speed + |v| + viscous term of this rank's markers in S->smax. */
-PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, const PSIndex *ixp, PetscReal dt)
+PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, PetscReal dt)
 {
-  const PetscInt   dim = S->dim;
-  const PSIndex    ix  = *ixp;
-  PSFields         f   = *fp;
-  const PetscReal *hv  = NULL;
-  PetscReal        smax = 0.0, hm = 0.0;
-  PetscInt         p, d;
+  const PetscInt dim = S->dim;
+  PSFields       f   = *fp;
+  PetscReal      smax = 0.0, hm = 0.0;
+  PetscInt       p, d;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_Stress, 0, 0, 0, 0));
-  if (S->Hl) PetscCall(VecGetArrayRead(S->Hl, &hv));
   if (S->run.fbar) {
     /* Delta-F-bar (Coombs, Augarde et al. 2018; Uintah's pressure
        stabilisation): each marker's volumetric rate is replaced by its cell's
@@ -129,7 +77,7 @@ PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, const PSIndex *ixp, Pet
     for (p = 0; p < f.n; p++) {
       PetscReal     *Lp = &S->Lp[9 * p];
       const PetscInt c  = LocalCell(S, &f.x[p * dim]);
-      MarkerL(S, &f, &ix, hv, p, (PetscReal(*)[3])Lp);
+      if (f.C) AffineL(dim, &f.C[p * dim * dim], Lp); /* musl: the transfer left it there */
       S->cell_V[c] += f.vol[p];
       S->cell_trL[c] += f.vol[p] * (Lp[0] + Lp[4] + Lp[8]);
     }
@@ -150,11 +98,10 @@ PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, const PSIndex *ixp, Pet
     /* four 3D markers of one material in a row go through the 4-lane kernel */
     if (dim == 3 && S->run.lanes == 4 && M->update4_fn && p + 4 <= f.n && f.mat[p + 1] == f.mat[p] && f.mat[p + 2] == f.mat[p] && f.mat[p + 3] == f.mat[p]) nb = 4;
     for (k = 0; k < nb; k++) {
-      if (S->run.fbar) PetscCall(PetscArraycpy(&L[k][0][0], &S->Lp[9 * (p + k)], 9));
-      else {
-        PetscCall(PetscArrayzero(&L[k][0][0], 9));
-        MarkerL(S, &f, &ix, hv, p + k, L[k]);
-      }
+      /* L_p: the MUSL gradient the transfer left in S->Lp (F-bar: averaged
+         there), or APIC's C_p */
+      if (f.C && !S->run.fbar) AffineL(dim, &f.C[(p + k) * dim * dim], &L[k][0][0]);
+      else PetscCall(PetscArraycpy(&L[k][0][0], &S->Lp[9 * (p + k)], 9));
       MarkerState(S, &f, p + k, &st[k]);
     }
     if (nb == 4) PetscCall(M->update4_fn(M, (const PetscReal(*)[3][3])L, dt, hm, S->run.c_linear, S->run.c_quadratic, st, J, cs));
@@ -170,7 +117,6 @@ PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, const PSIndex *ixp, Pet
       smax = PetscMax(smax, cs[k] + PetscSqrtReal(v2) + (f.q[p] > 0.0 ? f.q[p] * f.vol[p] / (f.mass[p] * PetscMax(cs[k], 1e-300)) : 0.0));
     }
   }
-  if (S->Hl) PetscCall(VecRestoreArrayRead(S->Hl, &hv));
   PetscCall(PetscLogEventEnd(PS_EV_Stress, 0, 0, 0, 0));
   S->smax = smax;
   PetscFunctionReturn(PETSC_SUCCESS);

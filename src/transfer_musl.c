@@ -1,142 +1,272 @@
 /*
   transfer_musl.c - the MUSL transfers (Sulsky, Zhou & Schreyer 1995; solver.h
-  steps 1-4), in the paper's order:
-    1. P2G        m_i, (mv)_i, f_i = -sum_p V_p (sigma_p - q_p I) grad N_ip   (PSP2G)
-    2. grid       v_i^new = v_i + dt f_i / m_i, boundary conditions         (PSGridUpdate, grid.c)
-    3. G2P        v_p FLIP/PIC blend, dx_p = dt sum_i N_ip v_i^new            (PSG2P)
-    4. re-project (mv)_i = sum_p N_ip m_p v_p^{n+1}, v_i = (mv)_i / m_i     (PSReproject)
-  The step's transfers all use N_ip at x_p^n: each marker's shape functions
-  are evaluated once, in P2G, and kept in S->shape for G2P and the velocity
-  gradient (stress.c).
+  steps 1-4 and the velocity gradient of step 5), in the paper's order:
+    1. P2G        m_i = sum_p N_ip m_p, (mv)_i = sum_p N_ip m_p v_p,
+                  f_i = -sum_p V_p (sigma_p - q_p I) grad N_ip                  (PSP2G)
+    2. grid       v_i^new = v_i + dt f_i / m_i, boundary conditions            (PSGridUpdate, grid.c)
+    3. G2P        v_p FLIP/PIC blend, dx_p = dt sum_i N_ip v_i^new               (PSG2P)
+    4. re-project (mv)_i = sum_p N_ip m_p v_p^{n+1}, v_i = (mv)_i / m_i        (PSReproject)
+    5. L_p = sum_i v_i (x) grad N_ip of the re-projected velocity, into S->Lp   (PSReproject)
+  All use N_ip at x_p^n: each marker's weights are evaluated once per step, in
+  P2G, and kept in S->shape.
+
+  Node layout (grid.c reads it through PSMUSLLayout): 3D nodes hold 8 reals,
+  [m, mv_x, mv_y, mv_z | 0, f_x, f_y, f_z], one 8-wide vector (PSv8: one
+  AVX-512 register, one cache line in the 64-byte aligned arrays), and the
+  re-projection array 4 reals [0, mv_x, mv_y, mv_z]; 2D nodes [m, mv, f] and
+  [mv].  The kernels are written once with the dimension dim and the nodes per
+  direction N (2 linear, 3 GIMP and B-splines) as constants at each call
+  (always inlined): 2D/3D x N = 2/3 are four compiled kernels.  Per row of N
+  nodes along x the y-z factors are applied once, so a 3D node costs one or
+  two vector multiply-adds in each pass.
 */
 #include "step.h"
 
-/* MUSL transfers (solver.h, steps 1-4): leaves the re-projected nodal
-   velocity in S->Hl and each marker's shape functions in S->shape */
-PetscErrorCode PSTransferMUSL(PSSolver *S, PSFields *fp, const PSIndex *ixp, PetscReal dt)
+/* 1. P2G of one marker, dim and N constant */
+static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, PetscReal lp, PetscReal *g, PSShape *shp)
 {
-  const PetscInt  dim = S->dim, dof = 1 + 2 * dim;
-  const PetscReal *lower = S->scene->lower;
-  const PSIndex   ix = *ixp;
-  PSFields        f  = *fp;
-  PSShape         sh;
-  PetscReal      *g, *hv;
-  PetscInt        p, d, e, a, b, c, n3[3];
+  const PetscInt   dof = dim == 3 ? 8 : 5, nz = dim == 3 ? N : 1, sy = dof * ix->gm[0], sz = sy * ix->gm[1];
+  const PetscReal *x = &f->x[p * dim], *v = &f->v[p * dim], m = f->mass[p], V = f->vol[p];
+  PetscReal        s[3][3], *g0;
+  PetscInt         a, b, c, d, e;
+  PSShape          shl, *sh = &shl; /* a local copy: stores into g cannot alias it */
+
+  PSShapeEval(S->run.shape, dim, S->scene->lower, S->ih, x, lp, sh);
+  *shp = shl;
+  ForceStress(dim, &f->sig[p * PSStressComponents(dim)], f->q[p], s);
+  g0 = &g[dof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])]; /* first node; rows sy, planes sz apart */
+  if (dim == 3) {
+    /* 8-wide: T = (m, m v | 0), S_e = (0 | 0, -V (sigma - q I) e_e) */
+    const PSv8 T  = {m, m * v[0], m * v[1], m * v[2], 0.0, 0.0, 0.0, 0.0};
+    const PSv8 S0 = {0.0, 0.0, 0.0, 0.0, 0.0, -V * s[0][0], -V * s[1][0], -V * s[2][0]};
+    const PSv8 S1 = {0.0, 0.0, 0.0, 0.0, 0.0, -V * s[0][1], -V * s[1][1], -V * s[2][1]};
+    const PSv8 S2 = {0.0, 0.0, 0.0, 0.0, 0.0, -V * s[0][2], -V * s[1][2], -V * s[2][2]};
+    for (c = 0; c < N; c++)
+      for (b = 0; b < N; b++) {
+        /* row of N nodes along x: node a adds w_x,a U + dw_x,a D with
+           U = (wyz T | dyz S1 + wydz S2), D = (0 | wyz S0) */
+        const PetscReal wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
+        const PSv8      U = wyz * T + dyz * S1 + wydz * S2, D = wyz * S0;
+        PetscReal      *gr = g0 + c * sz + b * sy;
+        for (a = 0; a < N; a++) Store8(gr + 8 * a, Load8(gr + 8 * a) + sh->w[0][a] * U + sh->dw[0][a] * D);
+      }
+  } else {
+    PetscReal mv[2], Vs[2][2];
+    for (d = 0; d < 2; d++) {
+      mv[d] = m * v[d];
+      for (e = 0; e < 2; e++) Vs[d][e] = V * s[d][e];
+    }
+    for (c = 0; c < nz; c++)
+      for (b = 0; b < N; b++) {
+        const PetscReal wy = sh->w[1][b], dy = sh->dw[1][b];
+        PetscReal      *gr = g0 + c * sz + b * sy;
+        for (a = 0; a < N; a++) {
+          const PetscReal w = sh->w[0][a] * wy, g_x = sh->dw[0][a] * wy, g_y = sh->w[0][a] * dy;
+          PetscReal      *gn = gr + 5 * a;
+          gn[0] += w * m;
+          gn[1] += w * mv[0];
+          gn[2] += w * mv[1];
+          gn[3] -= Vs[0][0] * g_x + Vs[0][1] * g_y;
+          gn[4] -= Vs[1][0] * g_x + Vs[1][1] * g_y;
+        }
+      }
+  }
+}
+
+static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, PetscReal *g)
+{
+  PetscReal V0 = -1.0, lp = 0.0;
+  PetscInt  p;
+  for (p = 0; p < f->n; p++) {
+    /* GIMP half size from V0 (cbrt is slow: uniform insertion repeats V0) */
+    if (S->run.shape == PS_SHAPE_GIMP && f->V0[p] != V0) {
+      V0 = f->V0[p];
+      lp = HalfSize(dim, V0);
+    }
+    P2GMarker(S, f, p, ix, dim, N, lp, g, &S->shape[p]);
+  }
+}
+
+/* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new, dx_p = dt sum N v_new;
+   4. and in the same pass the re-projection (mv)_i += N_ip m_p v_p^{n+1} */
+static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *g, PetscReal *hv)
+{
+  const PetscInt  dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1;
+  const PetscInt  sy = dof * ix->gm[0], sz = sy * ix->gm[1], hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
+  const PetscReal apic = S->run.pic_fraction;
+  PetscInt        p, a, b, c, d;
+
+  for (p = 0; p < f->n; p++) {
+    const PSShape    shl = S->shape[p], *sh = &shl; /* a local copy: stores into hv cannot alias it */
+    const PetscInt   o  = Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2]);
+    const PetscReal *g0 = &g[dof * o];
+    PetscReal       *h0 = &hv[hdof * o], *v = &f->v[p * dim], m = f->mass[p];
+    if (dim == 3) {
+      /* acc = (sum N v_new | sum N dv), 8-wide over the node's two halves */
+      PSv8 acc = {0, 0, 0, 0, 0, 0, 0, 0};
+      PSv4 MV;
+      for (c = 0; c < N; c++)
+        for (b = 0; b < N; b++) {
+          const PetscReal *gr = g0 + c * sz + b * sy;
+          PSv8             sr = sh->w[0][0] * Load8(gr);
+          for (a = 1; a < N; a++) sr += sh->w[0][a] * Load8(gr + 8 * a);
+          acc += (sh->w[1][b] * sh->w[2][c]) * sr;
+        }
+      for (d = 0; d < 3; d++) {
+        v[d]               = (1.0 - apic) * (v[d] + acc[5 + d]) + apic * acc[1 + d];
+        S->dx[p * dim + d] = dt * acc[1 + d];
+      }
+      MV = (PSv4){0.0, m * v[0], m * v[1], m * v[2]};
+      for (c = 0; c < N; c++)
+        for (b = 0; b < N; b++) {
+          const PSv4 W  = (sh->w[1][b] * sh->w[2][c]) * MV;
+          PetscReal *hr = h0 + c * hz + b * hy;
+          for (a = 0; a < N; a++) Store4(hr + 4 * a, Load4(hr + 4 * a) + sh->w[0][a] * W);
+        }
+    } else {
+      PetscReal vpic[2] = {0, 0}, dv[2] = {0, 0}, mv[2];
+      for (c = 0; c < nz; c++)
+        for (b = 0; b < N; b++) {
+          const PetscReal  wy = sh->w[1][b];
+          const PetscReal *gr = g0 + c * sz + b * sy;
+          for (a = 0; a < N; a++) {
+            const PetscReal  w  = sh->w[0][a] * wy;
+            const PetscReal *gn = gr + 5 * a;
+            vpic[0] += w * gn[1];
+            vpic[1] += w * gn[2];
+            dv[0] += w * gn[3];
+            dv[1] += w * gn[4];
+          }
+        }
+      for (d = 0; d < 2; d++) {
+        v[d]               = (1.0 - apic) * (v[d] + dv[d]) + apic * vpic[d];
+        S->dx[p * dim + d] = dt * vpic[d];
+        mv[d]              = m * v[d];
+      }
+      for (c = 0; c < nz; c++)
+        for (b = 0; b < N; b++) {
+          const PetscReal wy = sh->w[1][b];
+          PetscReal      *hr = h0 + c * hz + b * hy;
+          for (a = 0; a < N; a++) {
+            const PetscReal w = sh->w[0][a] * wy;
+            hr[2 * a] += w * mv[0];
+            hr[2 * a + 1] += w * mv[1];
+          }
+        }
+    }
+  }
+}
+
+/* 5. L_p = sum_i v_i (x) grad N_ip from the re-projected velocities, into
+   S->Lp (9 reals per marker, row major) */
+static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscReal *hv)
+{
+  const PetscInt hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1, hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
+  PetscInt       p, a, b, c, d;
+
+  for (p = 0; p < f->n; p++) {
+    const PSShape    shl = S->shape[p], *sh = &shl;
+    const PetscReal *h0 = &hv[hdof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])];
+    PetscReal       *L  = &S->Lp[9 * p];
+    if (dim == 3) {
+      /* columns of L: c0 = sum dN/dx v, c1 = sum dN/dy v, c2 = sum dN/dz v.
+         Per row, s = sum_a (dw_x,a v_a | w_x,a v_a) 8-wide; then
+         c01 += (wyz | dyz) s, c2 += wydz s (its upper half) */
+      PSv8 W[3], c01 = {0, 0, 0, 0, 0, 0, 0, 0}, c2 = {0, 0, 0, 0, 0, 0, 0, 0};
+      for (a = 0; a < N; a++) W[a] = (PSv8){sh->dw[0][a], sh->dw[0][a], sh->dw[0][a], sh->dw[0][a], sh->w[0][a], sh->w[0][a], sh->w[0][a], sh->w[0][a]};
+      for (c = 0; c < N; c++)
+        for (b = 0; b < N; b++) {
+          const PetscReal  wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
+          const PetscReal *hr  = h0 + c * hz + b * hy;
+          const PSv8       Y   = {wyz, wyz, wyz, wyz, dyz, dyz, dyz, dyz};
+          PSv8             sr  = W[0] * Load4Twice(hr);
+          for (a = 1; a < N; a++) sr += W[a] * Load4Twice(hr + 4 * a);
+          c01 += Y * sr;
+          c2 += wydz * sr;
+        }
+      for (d = 0; d < 3; d++) {
+        L[3 * d + 0] = c01[1 + d];
+        L[3 * d + 1] = c01[5 + d];
+        L[3 * d + 2] = c2[5 + d];
+      }
+    } else {
+      PetscReal l00 = 0, l01 = 0, l10 = 0, l11 = 0;
+      for (c = 0; c < nz; c++)
+        for (b = 0; b < N; b++) {
+          const PetscReal  wy = sh->w[1][b], dy = sh->dw[1][b];
+          const PetscReal *hr = h0 + c * hz + b * hy;
+          for (a = 0; a < N; a++) {
+            const PetscReal g_x = sh->dw[0][a] * wy, g_y = sh->w[0][a] * dy, *vn = hr + 2 * a;
+            l00 += vn[0] * g_x;
+            l01 += vn[0] * g_y;
+            l10 += vn[1] * g_x;
+            l11 += vn[1] * g_y;
+          }
+        }
+      L[0] = l00;
+      L[1] = l01;
+      L[2] = 0.0;
+      L[3] = l10;
+      L[4] = l11;
+      L[5] = L[6] = L[7] = L[8] = 0.0;
+    }
+  }
+}
+
+/* the four compiled forms of each kernel */
+#define PS_MUSL_DISPATCH(call3, call2) \
+  do { \
+    if (S->dim == 3) { \
+      if (N == 3) call3(3); \
+      else call3(2); \
+    } else { \
+      if (N == 3) call2(3); \
+      else call2(2); \
+    } \
+  } while (0)
+
+/* MUSL transfers (solver.h, steps 1-4 and L_p): leaves each marker's v_p,
+   dx_p, shape functions (S->shape) and velocity gradient (S->Lp), and the
+   re-projected nodal velocity in S->Hl (output). */
+PetscErrorCode PSTransferMUSL(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
+{
+  const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2;
+  PetscReal     *g, *hv;
 
   PetscFunctionBeginUser;
   /* 1. P2G: mass, momentum, internal force -(sigma - q I) grad N V */
   PetscCall(PetscLogEventBegin(PS_EV_P2G, 0, 0, 0, 0));
   PetscCall(VecGetArray(S->Gl, &g));
-  for (p = 0; p < f.n; p++) {
-    const PetscReal *x = &f.x[p * dim], *v = &f.v[p * dim], m = f.mass[p], V = f.vol[p];
-    PetscReal        s[3][3];
-    ForceStress(dim, &f.sig[p * PSStressComponents(dim)], f.q[p], s);
-    PSShapeEval(S->run.shape, dim, lower, S->h, x, S->run.shape == PS_SHAPE_GIMP ? HalfSize(dim, f.V0[p]) : 0.0, &S->shape[p]);
-    sh    = S->shape[p]; /* the step's transfers all use N_ip at x_p^n (MUSL) */
-    n3[0] = n3[1] = sh.n;
-    n3[2] = dim == 3 ? sh.n : 1;
-    {
-      /* per marker: m v and the stress rows, then 27 (9) nodes of w, grad w */
-      PetscReal mv[3], Vs[3][3];
-      for (d = 0; d < dim; d++) {
-        mv[d] = m * v[d];
-        for (e = 0; e < dim; e++) Vs[d][e] = V * s[d][e];
-      }
-      for (c = 0; c < n3[2]; c++)
-        for (b = 0; b < n3[1]; b++) {
-          const PetscReal wyz = sh.w[1][b] * sh.w[2][c], dyz = sh.dw[1][b] * sh.w[2][c], wydz = sh.w[1][b] * sh.dw[2][c];
-          PetscReal      *gr  = &g[dof * Lidx(&ix, sh.i0[0], sh.i0[1] + b, sh.i0[2] + c)];
-          for (a = 0; a < n3[0]; a++) {
-            const PetscReal w     = sh.w[0][a] * wyz;
-            const PetscReal gw[3] = {sh.dw[0][a] * wyz, sh.w[0][a] * dyz, sh.w[0][a] * wydz};
-            PetscReal      *gn    = gr + dof * a;
-            gn[0] += w * m;
-            for (d = 0; d < dim; d++) {
-              PetscReal fd = 0.0;
-              for (e = 0; e < dim; e++) fd += Vs[d][e] * gw[e];
-              gn[1 + d] += w * mv[d];
-              gn[1 + dim + d] -= fd;
-            }
-          }
-        }
-    }
-  }
+#define P2G3(n) P2GAll(S, f, ix, 3, n, g)
+#define P2G2(n) P2GAll(S, f, ix, 2, n, g)
+  PS_MUSL_DISPATCH(P2G3, P2G2);
   PetscCall(PetscLogEventEnd(PS_EV_P2G, 0, 0, 0, 0));
   PetscCall(PSHaloReduce(S->sfg, g));
 
   /* 2. grid: v_new = v_old + dt f/m with the boundary conditions (grid.c) */
   PetscCall(PetscLogEventBegin(PS_EV_Grid, 0, 0, 0, 0));
-  PSGridUpdateMUSL(S, &ix, dt, g);
+  PSGridUpdateMUSL(S, ix, dt, g);
   PetscCall(PetscLogEventEnd(PS_EV_Grid, 0, 0, 0, 0));
   PetscCall(PSHaloBcast(S->sfg, g));
 
-  /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new; dx_p = dt sum N v_new;
-     4. and in the same pass the re-projection (mv)_i = sum_p N_ip m_p v_p^{n+1} */
+  /* 3. G2P and 4. the re-projection's P2G */
   PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
   PetscCall(VecGetArray(S->Hl, &hv));
-  for (p = 0; p < f.n; p++) {
-    PetscReal      vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, mv[3];
-    const PSShape *sp      = &S->shape[p];
-    n3[0] = n3[1] = sp->n;
-    n3[2] = dim == 3 ? sp->n : 1;
-    {
-      /* accumulate in registers: v_pic = sum N v_new, dv = sum N (v_new - v_old) */
-      PetscReal a0 = 0, a1 = 0, a2 = 0, b0 = 0, b1 = 0, b2 = 0;
-      for (c = 0; c < n3[2]; c++)
-        for (b = 0; b < n3[1]; b++) {
-          const PetscReal  wyz = sp->w[1][b] * sp->w[2][c];
-          const PetscReal *gr  = &g[dof * Lidx(&ix, sp->i0[0], sp->i0[1] + b, sp->i0[2] + c)];
-          if (dim == 3)
-            for (a = 0; a < n3[0]; a++) {
-              const PetscReal  w  = sp->w[0][a] * wyz;
-              const PetscReal *gn = gr + 7 * a;
-              a0 += w * gn[1];
-              a1 += w * gn[2];
-              a2 += w * gn[3];
-              b0 += w * gn[4];
-              b1 += w * gn[5];
-              b2 += w * gn[6];
-            }
-          else
-            for (a = 0; a < n3[0]; a++) {
-              const PetscReal  w  = sp->w[0][a] * wyz;
-              const PetscReal *gn = gr + 5 * a;
-              a0 += w * gn[1];
-              a1 += w * gn[2];
-              b0 += w * gn[3];
-              b1 += w * gn[4];
-            }
-        }
-      vpic[0] = a0;
-      vpic[1] = a1;
-      vpic[2] = a2;
-      dv[0]   = b0;
-      dv[1]   = b1;
-      dv[2]   = b2;
-    }
-    for (d = 0; d < dim; d++) {
-      f.v[p * dim + d]   = (1.0 - S->run.pic_fraction) * (f.v[p * dim + d] + dv[d]) + S->run.pic_fraction * vpic[d];
-      S->dx[p * dim + d] = dt * vpic[d];
-      mv[d]              = f.mass[p] * f.v[p * dim + d];
-    }
-    for (c = 0; c < n3[2]; c++)
-      for (b = 0; b < n3[1]; b++) {
-        const PetscReal wyz = sp->w[1][b] * sp->w[2][c];
-        PetscReal      *hr  = &hv[dim * Lidx(&ix, sp->i0[0], sp->i0[1] + b, sp->i0[2] + c)];
-        for (a = 0; a < n3[0]; a++) {
-          const PetscReal w  = sp->w[0][a] * wyz;
-          PetscReal      *hn = hr + dim * a;
-          for (d = 0; d < dim; d++) hn[d] += w * mv[d];
-        }
-      }
-  }
+#define G2P3(n) G2PAll(S, f, ix, dt, 3, n, g, hv)
+#define G2P2(n) G2PAll(S, f, ix, dt, 2, n, g, hv)
+  PS_MUSL_DISPATCH(G2P3, G2P2);
   PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
 
+  /* 4. re-projected velocity v_i = (mv)_i / m_i with the boundary conditions;
+     5. then each marker's L_p from it */
   PetscCall(PetscLogEventBegin(PS_EV_Reproject, 0, 0, 0, 0));
   PetscCall(PSHaloReduce(S->sfh, hv));
-  PSGridVelocity(S, &ix, g, dof, hv, dim); /* v_i = (mv)_i / m_i, boundary conditions */
-  PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
+  PSGridVelocity(S, ix, g, dof, hv + hdof - dim, hdof);
   PetscCall(PSHaloBcast(S->sfh, hv));
+#define GRAD3(n) GradientAll(S, f, ix, 3, n, hv)
+#define GRAD2(n) GradientAll(S, f, ix, 2, n, hv)
+  PS_MUSL_DISPATCH(GRAD3, GRAD2);
+  PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
   PetscCall(VecRestoreArray(S->Hl, &hv));
   PetscCall(VecRestoreArray(S->Gl, &g));
   PetscFunctionReturn(PETSC_SUCCESS);
