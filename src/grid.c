@@ -8,23 +8,6 @@
 */
 #include "step.h"
 
-/* boundary conditions on a node's velocity: physical node index ip[d] */
-static inline void NodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
-{
-  PetscInt d, e;
-  for (d = 0; d < S->dim; d++) {
-    PSBCType bc = ip[d] <= 0 ? S->bc[d][0] : ip[d] >= S->scene->cells[d] ? S->bc[d][1] : PS_BC_FREE;
-    if (bc == PS_BC_SYMMETRY) v[d] = 0.0;
-    else if (bc == PS_BC_FIXED)
-      for (e = 0; e < S->dim; e++) v[e] = 0.0;
-  }
-}
-
-
-/* The nodes this step's transfers can touch, over all ranks: from each
-   marker's cell c the nodes c-1 .. c+2 in every direction (every shape
-   function), as DMDA indices [lo, hi).  Markers fill a small part of a
-   typical domain, so zeroing and the grid loops run on this box only. */
 PetscErrorCode PSGridActiveBox(PSSolver *S, const PSFields *f, PetscInt box[3][2])
 {
   const PetscInt dim = S->dim;
@@ -32,6 +15,15 @@ PetscErrorCode PSGridActiveBox(PSSolver *S, const PSFields *f, PetscInt box[3][2
   PetscInt       p, d;
 
   PetscFunctionBeginUser;
+  if (S->cells) { /* cell materials fill the grid: every node */
+    PetscInt N[3];
+    PetscCall(DMDAGetInfo(S->da, NULL, &N[0], &N[1], &N[2], NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+    for (d = 0; d < 3; d++) {
+      box[d][0] = 0;
+      box[d][1] = d < dim ? N[d] : 1;
+    }
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
   for (d = 0; d < 6; d++) buf[d] = -PETSC_MAX_REAL;
   for (p = 0; p < f->n; p++)
     for (d = 0; d < dim; d++) {
@@ -111,7 +103,7 @@ void PSGridVelocity(const PSSolver *S, const PSIndex *ix, const PetscReal *m, Pe
         PetscReal       vn[3] = {0, 0, 0};
         if (mi > S->mass_min) {
           for (d = 0; d < dim; d++) vn[d] = mv[vs * o + d] / mi;
-          NodeBC(S, ip, vn);
+          PSNodeBC(S, ip, vn);
         }
         for (d = 0; d < dim; d++) mv[vs * o + d] = vn[d];
       }
@@ -137,11 +129,40 @@ void PSGridUpdateMUSL(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscR
             vo[d] = gn[1 + d] * im;
             vn[d] = vo[d] + dt * gn[fo + d] * im;
           }
-          NodeBC(S, ip, vn);
+          PSNodeBC(S, ip, vn);
         }
         for (d = 0; d < dim; d++) {
           gn[1 + d]  = vn[d];
           gn[fo + d] = vn[d] - vo[d];
         }
       }
+}
+
+/* a[a_s o + d] += b[b_s o + d] on the owned nodes of the active box */
+void PSGridAddOwned(const PSSolver *S, const PSIndex *ix, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as)
+{
+  PetscInt i, j, k, d, lo[3], hi[3];
+
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
+  for (k = lo[2]; k < hi[2]; k++)
+    for (j = lo[1]; j < hi[1]; j++)
+      for (i = lo[0]; i < hi[0]; i++) {
+        const PetscInt o = Lidx(ix, i, j, k);
+        for (d = 0; d < S->dim; d++) a[as * o + d] += b[bs * o + d];
+      }
+}
+
+/* 2. The grid phase: the ghosts' P2G sums to their owners, the nodal velocity
+   with the boundary conditions (musl: v_new and v_new - v_old; apic: v), and
+   the owners' values back to the ghosts. */
+PetscErrorCode PSGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PSHaloReduce(S->sfg, S->g));
+  PetscCall(PetscLogEventBegin(PS_EV_Grid, 0, 0, 0, 0));
+  if (S->run.transfer == PS_TRANSFER_MUSL) PSGridUpdateMUSL(S, ix, dt, S->g);
+  else PSGridVelocity(S, ix, S->g, PSGridDof(S), S->g + 1, PSGridDof(S));
+  PetscCall(PetscLogEventEnd(PS_EV_Grid, 0, 0, 0, 0));
+  PetscCall(PSHaloBcast(S->sfg, S->g));
+  PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -10,7 +10,8 @@
   owned part of the local array.
 
   Layout: the DMDA's (x fastest, ranks x fastest, stencil box of width sw,
-  boundaries not periodic), ownership from the solver's node ranges lx.
+  boundaries not periodic), ownership from the solver's node ranges lx; the
+  same for the Eulerian cells' arrays (cells/, their own ranges and width).
 */
 #include "solver.h"
 
@@ -22,29 +23,31 @@ static inline PetscInt Owner(const PetscInt *lx, PetscInt P, PetscInt i)
   return k;
 }
 
-PetscErrorCode PSHaloCreate(PSSolver *S, PetscInt dof, PetscSF *sf)
+/* The ghost exchange of a box of N[d] points per direction split among
+   nproc[d] ranks by the ranges lx[d] (rank k owns [lx[d][k], lx[d][k+1])),
+   each rank holding its points and a ghost layer of width sw (clipped to the
+   box) as a dof-per-point array, x fastest. */
+PetscErrorCode PSHaloCreateBox(MPI_Comm comm, PetscInt dim, const PetscInt N0[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt dof, PetscSF *sf)
 {
-  PetscInt     N[3], sw, gs[3], ge[3], os[3], oe[3], me[3], i, j, k, d, n = 0, nroots;
+  PetscInt     N[3], gs[3], ge[3], os[3], oe[3], me[3], i, j, k, d, n = 0, nroots;
   PetscInt    *ilocal;
   PetscSFNode *iremote;
   PetscMPIInt  rank;
-  MPI_Comm     comm = PetscObjectComm((PetscObject)S->da);
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(DMDAGetInfo(S->da, NULL, &N[0], &N[1], &N[2], NULL, NULL, NULL, NULL, &sw, NULL, NULL, NULL, NULL));
-  me[0] = rank % S->nproc[0];
-  me[1] = (rank / S->nproc[0]) % S->nproc[1];
-  me[2] = rank / (S->nproc[0] * S->nproc[1]);
+  me[0] = rank % nproc[0];
+  me[1] = (rank / nproc[0]) % nproc[1];
+  me[2] = rank / (nproc[0] * nproc[1]);
   for (d = 0; d < 3; d++) {
-    if (d >= S->dim) N[d] = 1;
-    os[d] = S->lx[d][me[d]];
-    oe[d] = S->lx[d][me[d] + 1];
-    gs[d] = d < S->dim ? PetscMax(os[d] - sw, 0) : 0;
-    ge[d] = d < S->dim ? PetscMin(oe[d] + sw, N[d]) : 1;
+    N[d]  = d < dim ? N0[d] : 1;
+    os[d] = lx[d][me[d]];
+    oe[d] = lx[d][me[d] + 1];
+    gs[d] = d < dim ? PetscMax(os[d] - sw, 0) : 0;
+    ge[d] = d < dim ? PetscMin(oe[d] + sw, N[d]) : 1;
   }
   nroots = dof * (ge[0] - gs[0]) * (ge[1] - gs[1]) * (ge[2] - gs[2]);
-  /* leaves: the ghost nodes, dof entries each */
+  /* leaves: the ghost points, dof entries each */
   for (k = gs[2]; k < ge[2]; k++)
     for (j = gs[1]; j < ge[1]; j++)
       for (i = gs[0]; i < ge[0]; i++)
@@ -58,16 +61,16 @@ PetscErrorCode PSHaloCreate(PSSolver *S, PetscInt dof, PetscSF *sf)
         const PetscInt ijk[3] = {i, j, k};
         PetscInt       r[3], rgs[3], rgm[3], e, ro;
         if (i >= os[0] && i < oe[0] && j >= os[1] && j < oe[1] && k >= os[2] && k < oe[2]) continue;
-        /* the owner and the node's place in the owner's ghosted array */
+        /* the owner and the point's place in the owner's ghosted array */
         for (d = 0; d < 3; d++) {
-          r[d]   = Owner(S->lx[d], S->nproc[d], ijk[d]);
-          rgs[d] = d < S->dim ? PetscMax(S->lx[d][r[d]] - sw, 0) : 0;
-          rgm[d] = (d < S->dim ? PetscMin(S->lx[d][r[d] + 1] + sw, N[d]) : 1) - rgs[d];
+          r[d]   = Owner(lx[d], nproc[d], ijk[d]);
+          rgs[d] = d < dim ? PetscMax(lx[d][r[d]] - sw, 0) : 0;
+          rgm[d] = (d < dim ? PetscMin(lx[d][r[d] + 1] + sw, N[d]) : 1) - rgs[d];
         }
         ro = ((k - rgs[2]) * rgm[1] + (j - rgs[1])) * rgm[0] + (i - rgs[0]);
         for (e = 0; e < dof; e++) {
           ilocal[n]        = dof * (((k - gs[2]) * (ge[1] - gs[1]) + (j - gs[1])) * (ge[0] - gs[0]) + (i - gs[0])) + e;
-          iremote[n].rank  = r[0] + S->nproc[0] * (r[1] + S->nproc[1] * r[2]);
+          iremote[n].rank  = r[0] + nproc[0] * (r[1] + nproc[1] * r[2]);
           iremote[n].index = dof * ro + e;
           n++;
         }
@@ -75,6 +78,17 @@ PetscErrorCode PSHaloCreate(PSSolver *S, PetscInt dof, PetscSF *sf)
   PetscCall(PetscSFCreate(comm, sf));
   PetscCall(PetscSFSetGraph(*sf, nroots, n, ilocal, PETSC_OWN_POINTER, iremote, PETSC_OWN_POINTER));
   PetscCall(PetscSFSetUp(*sf));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the grid nodes' exchange: the node DMDA's sizes and stencil width */
+PetscErrorCode PSHaloCreate(PSSolver *S, PetscInt dof, PetscSF *sf)
+{
+  PetscInt N[3], sw;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(S->da, NULL, &N[0], &N[1], &N[2], NULL, NULL, NULL, NULL, &sw, NULL, NULL, NULL, NULL));
+  PetscCall(PSHaloCreateBox(PetscObjectComm((PetscObject)S->da), S->dim, N, S->nproc, S->lx, sw, dof, sf));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

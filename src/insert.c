@@ -142,6 +142,7 @@ static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], c
     PSPiece       *pc;
     double         vsub = 1.0;
 
+    if (B->cellmat >= 0) continue; /* a body in cells puts no markers (cells/cells.c) */
     PetscCall(PSBodyBoundingBox(scene, b, blo, bhi));
     PSCellRange(scene, blo, bhi, bcs, bce);
     for (d = 0; d < 3; d++) {

@@ -16,6 +16,7 @@ PETSC_INTERN PetscErrorCode PSMaterialsRegisterAll(void);
 
 PETSC_INTERN PetscErrorCode PSEOSHydroelastic(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *, PetscReal *, PetscReal *);
 PETSC_INTERN PetscErrorCode PSEOSMieGruneisen(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *, PetscReal *, PetscReal *);
+PETSC_INTERN PetscErrorCode PSEOSIdealGas(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *, PetscReal *, PetscReal *);
 PETSC_INTERN PetscErrorCode PSStrengthNone(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
 PETSC_INTERN PetscErrorCode PSStrengthElasticPlastic(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
 PETSC_INTERN PetscErrorCode PSStrengthJohnsonCook(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);

@@ -55,6 +55,9 @@ typedef struct {
   PetscReal axis[3];           /* cylinder unit axis */
   PetscReal radius;            /* m */
   PetscReal length;            /* cylinder length along axis (m) */
+  /* representation */
+  PetscInt  cellmat;           /* -1: markers; else `representation: cells`, the index of its material among the cell materials */
+  PetscReal pressure;          /* initial pressure (Pa): sets the initial specific energy through the EOS at the initial density */
 } PSBody;
 
 /* The scene: grid, materials, bodies.  Owned by the caller. */
@@ -71,6 +74,8 @@ typedef struct {
   PetscInt   ndamage;         /* damage components per marker: 0 none, 1 Johnson-Cook failure, 4 ply failure (FT, FC, MT, MC) */
   PetscReal *T0;              /* initial temperature per material (K) */
   PetscBool  need_affine;     /* run.transfer apic: markers carry the affine velocity C_p */
+  PetscInt   ncellmat;        /* materials of cell bodies (0: no Eulerian cells) */
+  PetscInt  *cellmat;         /* their material ids, deck order */
   PetscInt   nbody;
   PSBody    *bodies;
 } PSScene;

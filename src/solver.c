@@ -5,6 +5,7 @@
 */
 #include <stdio.h>
 #include "step.h"
+#include "cells/cells.h"
 
 const char *const PSShapeTypes[]    = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
 const char *const PSTransferTypes[] = {"musl", "apic", "PSTransferType", "PS_TRANSFER_", NULL};
@@ -14,7 +15,7 @@ PetscLogEvent PS_EV_P2G, PS_EV_Grid, PS_EV_G2P, PS_EV_Reproject, PS_EV_Stress, P
 /* A ghosted local grid vector whose array starts on a 64-byte boundary (a
    cache line), so a node of 4 or 8 reals never straddles two lines (PETSc
    3.18 aligns to 16 bytes only). */
-static PetscErrorCode CreateAlignedLocal(DM dm, Vec *v, PetscReal **buf)
+static PetscErrorCode CreateAlignedLocal(DM dm, Vec *v, PetscReal **buf, PetscReal **array)
 {
   Vec        t;
   PetscInt   n, bs;
@@ -28,6 +29,7 @@ static PetscErrorCode CreateAlignedLocal(DM dm, Vec *v, PetscReal **buf)
   PetscCall(PetscCalloc1(n + 8, buf)); /* 8 reals of slack to move the start to a 64-byte boundary */
   a = (PetscReal *)(((size_t)*buf + 63) & ~(size_t)63);
   PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, bs, n, a, v));
+  *array = a;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -83,12 +85,12 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
   }
   PetscCall(DMDACreateCompatibleDMDA(da, PSGridDof(S), &S->dag));
   PetscCall(DMCreateGlobalVector(S->dag, &S->G));
-  PetscCall(CreateAlignedLocal(S->dag, &S->Gl, &S->gbuf));
+  PetscCall(CreateAlignedLocal(S->dag, &S->Gl, &S->gbuf, &S->g));
   PetscCall(PSHaloCreate(S, PSGridDof(S), &S->sfg));
   if (S->run.transfer == PS_TRANSFER_MUSL) {
     PetscCall(DMDACreateCompatibleDMDA(da, PSReprojectDof(S), &S->dav));
     PetscCall(DMCreateGlobalVector(S->dav, &S->H));
-    PetscCall(CreateAlignedLocal(S->dav, &S->Hl, &S->hbuf));
+    PetscCall(CreateAlignedLocal(S->dav, &S->Hl, &S->hbuf, &S->hv));
     PetscCall(PSHaloCreate(S, PSReprojectDof(S), &S->sfh));
   }
   {
@@ -102,6 +104,13 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
   for (d = 0; d < S->dim; d++) S->ncell *= S->ce[d] - S->cs[d];
   S->zall = PETSC_TRUE;
   if (S->run.fbar) PetscCall(PetscMalloc2(PetscMax(S->ncell, 1), &S->cell_V, PetscMax(S->ncell, 1), &S->cell_trL));
+  /* Eulerian cells: their arrays only in a scene with bodies in cells; the
+     fresh state (a restart replaces it) */
+  if (scene->ncellmat > 0) {
+    PetscCall(PSCellsCreate(S, S->mat));
+    PetscCall(PSCellsInsert(S));
+    PetscCall(PSCellsFitMarkers(S));
+  }
   *out = S;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -129,6 +138,7 @@ PetscErrorCode PSSolverDestroy(PSSolver **S)
   PetscCall(PetscFree((*S)->Lp));
   if ((*S)->cell_V) PetscCall(PetscFree2((*S)->cell_V, (*S)->cell_trL));
   PetscCall(PetscFree((*S)->gauge_id));
+  PetscCall(PSCellsDestroy(&(*S)->cells));
   PetscCall(PetscFree(*S));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

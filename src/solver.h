@@ -102,6 +102,7 @@ struct PSMaterial_ {
   PetscReal    rho0;            /* reference density (kg/m^3) */
   PetscReal    K;               /* bulk modulus of the hypoelastic EOS "none" (Pa) */
   PetscReal    c0, s, gamma0;   /* Mie-Grueneisen linear Us-up (m/s, -, -) */
+  PetscReal    gamma;           /* ideal gas: ratio of specific heats (-) */
   PetscReal    G;               /* shear modulus (Pa); 0 = hydrodynamic */
   PetscReal    Y0;              /* elastic-plastic yield stress (Pa) */
   PetscReal    A, B, n, C, m;   /* Johnson-Cook strength (Pa, Pa, -, -, -) */
@@ -145,6 +146,8 @@ typedef struct {
   PetscReal  mass, p[3], kinetic, internal;          /* kg, kg m/s, J, J (per metre of depth in 2D) */
   PetscReal  lost_mass, lost_p[3], lost_energy;      /* booked removals through free faces */
   PetscReal  max_pressure;                           /* Pa */
+  PetscReal  remap_heat;                             /* J: kinetic energy the cells' remap put into internal energy (included in internal) */
+  PetscReal  coupling_work;                          /* J: work of fitting cell materials around the markers (included in internal) */
   PetscInt64 markers, lost_markers;
 } PSTotals;
 
@@ -158,7 +161,9 @@ typedef struct {
   DM             dav;            /* the same grid with the re-projection's layout (musl; PSReprojectDof) */
   DM             sw;             /* markers */
   Vec            G, Gl, H, Hl;   /* grid vectors: global (output) and ghosted local (the step) (G on dag, H on dav) */
-  PetscReal     *gbuf, *hbuf;    /* the allocations behind Gl and Hl (their arrays start on a 64-byte boundary) */
+  PetscReal     *gbuf, *hbuf;    /* the allocations behind Gl and Hl ... */
+  PetscReal     *g, *hv;         /* ... and their arrays, which start on a 64-byte boundary */
+  struct PSCells_ *cells;        /* Eulerian cell materials (cells/); NULL in a scene without cell bodies */
   PetscSF        sfg, sfh;       /* ghost exchange of Gl and Hl (halo.c) */
   PetscInt       dim, pad;
   PetscReal      h[3];           /* cell size (m) */
@@ -197,7 +202,10 @@ PETSC_EXTERN PetscErrorCode PSSolverRun(PSSolver *, const char outdir[], PetscIn
 PETSC_EXTERN PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt n, const PetscInt64 ids[]);
 PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
+PETSC_EXTERN PetscErrorCode PSSolverCellsGet(PSSolver *, PetscInt cs[3], PetscInt cm[3], PetscInt layout[3], PetscReal *out);
+PETSC_EXTERN PetscErrorCode PSSolverCellNodesGet(PSSolver *, PetscInt ns[3], PetscInt nm[3], PetscReal *out);
 PETSC_INTERN PetscErrorCode PSHaloCreate(PSSolver *, PetscInt dof, PetscSF *);
+PETSC_INTERN PetscErrorCode PSHaloCreateBox(MPI_Comm, PetscInt dim, const PetscInt N[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt dof, PetscSF *);
 PETSC_INTERN PetscErrorCode PSHaloReduce(PetscSF, PetscReal *);
 PETSC_INTERN PetscErrorCode PSHaloBcast(PetscSF, PetscReal *);
 PETSC_EXTERN PetscErrorCode PSMaterialInit(PSMaterial *, const char eos[], const char strength[], const char failure[]);

@@ -1,14 +1,23 @@
 /*
-  step.c - one explicit MPM time step as named phases (solver.h gives the
-  algorithms; step.h lists the file of each phase):
+  step.c - one explicit time step as named phases (solver.h gives the MPM
+  algorithms, cells/cells.h the Eulerian cells; step.h lists the file of each
+  phase):
 
-    dt        timestep.c   CFL, growth limit, next stop
-    reset     grid.c       zero the nodes the last step wrote, note this step's box
-    transfer  transfer_musl.c | transfer_apic.c   P2G, grid update, G2P
-    stress    stress.c     L_p, constitutive update, x_p += dx_p
-    migrate   migrate.c    out-of-domain markers booked, the rest to their owners
+    dt          timestep.c        CFL over markers and cells, growth limit, next stop
+    reset       grid.c            zero the nodes the last step wrote, note this step's box
+    P2G         transfer_*.c      markers' mass, momentum, force to the nodes
+                cells/lagrange.c  cells' nodal mass, momentum, force (same nodes)
+    grid        grid.c            ghost sums, v_i with the boundary conditions, ghosts back
+    G2P         transfer_*.c      markers' velocity and displacement (musl: re-projection)
+    Lagrange    cells/lagrange.c  cells deform with the nodal velocity: closure, EOS, strength
+    re-project  transfer_musl.c   (musl) the re-projected velocity and L_p
+    stress      stress.c          markers' constitutive update, x_p += dx_p
+    remap       cells/remap.c     cell materials and their momentum back to the fixed grid
+    migrate     migrate.c         out-of-domain markers booked, the rest to their owners
+    fit         cells/closure.c   cell materials fitted around the markers' new volume
 */
 #include "step.h"
+#include "cells/cells.h"
 
 /* scratch arrays sized for n markers (kept between steps) */
 static PetscErrorCode EnsureScratch(PSSolver *S, PetscInt n)
@@ -27,28 +36,39 @@ static PetscErrorCode EnsureScratch(PSSolver *S, PetscInt n)
 
 PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
 {
-  PSIndex  ix;
-  PSFields f;
-  PetscInt box[3][2];
-  PetscReal smax;
+  const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
+  PSIndex         ix;
+  PSFields        f;
+  PetscInt        box[3][2];
+  PetscReal       smax, dt;
 
   PetscFunctionBeginUser;
   PetscCall(PSComputeDt(S, t_stop));
+  dt = S->dt;
   PetscCall(PSGridIndex(S->da, &ix));
   PetscCall(PSFieldsGet(S, &f));
   PetscCall(EnsureScratch(S, f.n));
 
   PetscCall(PSGridActiveBox(S, &f, box));
   PetscCall(PSGridReset(S, &ix, box));
-  if (S->run.transfer == PS_TRANSFER_APIC) PetscCall(PSTransferAPIC(S, &f, &ix, S->dt));
-  else PetscCall(PSTransferMUSL(S, &f, &ix, S->dt));
-  PetscCall(PSStressUpdate(S, &f, S->dt));
+  if (musl) PetscCall(PSMUSLP2G(S, &f, &ix));
+  else PetscCall(PSAPICP2G(S, &f, &ix, dt));
+  if (S->cells) PetscCall(PSCellsToGrid(S, &ix, dt));
+  PetscCall(PSGridSolve(S, &ix, dt));
+  if (musl) PetscCall(PSMUSLG2P(S, &f, &ix, dt));
+  else PetscCall(PSAPICG2P(S, &f, &ix, dt));
+  if (S->cells) PetscCall(PSCellsLagrange(S, &ix, dt));
+  if (musl) PetscCall(PSMUSLReproject(S, &f, &ix));
+  PetscCall(PSStressUpdate(S, &f, dt));
+  if (S->cells) PetscCall(PSCellsRemap(S, &ix, dt));
   PetscCall(PSFieldsRestore(S, &f));
   smax = S->smax;
+  if (S->cells) smax = PetscMax(smax, S->cells->smax);
   PetscCallMPI(MPI_Allreduce(&smax, &S->smax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)S->sw)));
 
   PetscCall(PSSolverMigrate(S));
-  S->t += S->dt;
+  if (S->cells) PetscCall(PSCellsFitMarkers(S));
+  S->t += dt;
   S->step++;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -3,10 +3,11 @@
 
   The step (step.c) reads as named phases, each in a file of its own:
     timestep.c       dt from the CFL condition (PSTimeStep)
-    grid.c           the active node box, grid reset, nodal velocity with the
-                     boundary conditions (PSGridUpdate)
-    transfer_musl.c  MUSL: P2G, G2P with the re-projection (PSP2G, PSG2P, PSReproject)
+    grid.c           the active node box, grid reset, the grid phase: ghost sums,
+                     nodal velocity with the boundary conditions (PSGridUpdate)
+    transfer_musl.c  MUSL: P2G, G2P with the re-projection, L_p (PSP2G, PSG2P, PSReproject)
     transfer_apic.c  APIC/MLS-MPM: P2G, G2P (PSP2G, PSG2P)
+    cells/           Eulerian cell materials: their part of P2G, Lagrangian phase, remap
     stress.c         velocity gradient, F-bar, constitutive update, x_p += dx_p (PSStress)
     migrate.c        markers out of the domain booked and removed, the rest migrated (PSMigrate)
     totals.c         conserved totals with the booked losses
@@ -67,9 +68,26 @@ PETSC_INTERN PetscErrorCode PSGridActiveBox(PSSolver *, const PSFields *, PetscI
 PETSC_INTERN PetscErrorCode PSGridReset(PSSolver *, const PSIndex *, const PetscInt box[3][2]);
 PETSC_INTERN void           PSGridVelocity(const PSSolver *, const PSIndex *, const PetscReal *m, PetscInt ms, PetscReal *mv, PetscInt vs);
 PETSC_INTERN void           PSGridUpdateMUSL(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g);
-PETSC_INTERN PetscErrorCode PSTransferMUSL(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
-PETSC_INTERN PetscErrorCode PSTransferAPIC(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+PETSC_INTERN void           PSGridAddOwned(const PSSolver *, const PSIndex *, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as);
+PETSC_INTERN PetscErrorCode PSGridSolve(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSMUSLP2G(PSSolver *, PSFields *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSMUSLG2P(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSMUSLReproject(PSSolver *, PSFields *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSAPICP2G(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSAPICG2P(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSStressUpdate(PSSolver *, PSFields *, PetscReal dt);
+
+/* boundary conditions on a node's velocity (or momentum): physical node ip */
+static inline void PSNodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
+{
+  PetscInt d, e;
+  for (d = 0; d < S->dim; d++) {
+    PSBCType bc = ip[d] <= 0 ? S->bc[d][0] : ip[d] >= S->scene->cells[d] ? S->bc[d][1] : PS_BC_FREE;
+    if (bc == PS_BC_SYMMETRY) v[d] = 0.0;
+    else if (bc == PS_BC_FIXED)
+      for (e = 0; e < S->dim; e++) v[e] = 0.0;
+  }
+}
 
 /* GIMP half size of a marker: half its initial size (m) */
 static inline PetscReal HalfSize(PetscInt dim, PetscReal V0)

@@ -6,6 +6,7 @@
   computes it afresh for the first step and after a restart.
 */
 #include "step.h"
+#include "cells/cells.h"
 
 
 /* wave speed + |v| over all markers (for the first dt and after restarts) */
@@ -24,6 +25,10 @@ PetscErrorCode PSSolverMaxSpeed(PSSolver *S)
     smax = PetscMax(smax, c + PetscSqrtReal(v2));
   }
   PetscCall(PSFieldsRestore(S, &f));
+  if (S->cells) {
+    PetscCall(PSCellsMaxSpeed(S));
+    smax = PetscMax(smax, S->cells->smax);
+  }
   PetscCallMPI(MPI_Allreduce(&smax, &S->smax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)S->sw)));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -1,8 +1,10 @@
 /*
   totals.c - the conserved totals over all ranks (mass, momentum, kinetic and
-  internal energy) with the booked losses, for history.csv and the tests.
+  internal energy of markers and cell materials) with the booked losses, for
+  history.csv and the tests.
 */
 #include "step.h"
+#include "cells/cells.h"
 
 /* Global totals now, with the booked losses. */
 PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
@@ -28,7 +30,14 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
     pmax = PetscMax(pmax, f.p[p]);
   }
   PetscCall(PSFieldsRestore(S, &f));
-  PetscCallMPI(MPI_Allreduce(loc, glob, 6, MPIU_REAL, MPI_SUM, comm));
+  /* the cell materials: mass, nodal momentum and kinetic energy, internal
+     energy, and the remap's and the markers' fit's bookkeeping */
+  if (S->cells) {
+    PetscCall(PSCellsTotals(S, loc, &pmax));
+    loc[6] = S->cells->remap_heat;
+    loc[7] = S->cells->coupling_work;
+  }
+  PetscCallMPI(MPI_Allreduce(loc, glob, 8, MPIU_REAL, MPI_SUM, comm));
   PetscCallMPI(MPI_Allreduce(&pmax, &T->max_pressure, 1, MPIU_REAL, MPI_MAX, comm));
   lost[0] = S->lost_local.mass;
   lost[1] = S->lost_local.p[0];
@@ -45,6 +54,8 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
   T->p[2]     = glob[3];
   T->kinetic  = glob[4];
   T->internal = glob[5];
+  T->remap_heat    = glob[6];
+  T->coupling_work = glob[7];
   T->lost_mass = glost[0];
   T->lost_p[0] = glost[1];
   T->lost_p[1] = glost[2];

@@ -159,32 +159,24 @@ static inline __attribute__((always_inline)) void G2PAPIC(PSSolver *S, PSFields 
   }
 }
 
-/* APIC transfers (solver.h): leaves each marker's v_p, C_p and displacement */
-PetscErrorCode PSTransferAPIC(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
+/* 1. P2G of the markers: mass and momentum with the affine and force terms */
+PetscErrorCode PSAPICP2G(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
 {
-  const PetscInt dim = S->dim, dof = 1 + dim;
-  PetscReal     *g;
-
   PetscFunctionBeginUser;
-  /* 1. P2G: mass and momentum with the affine and force terms */
   PetscCall(PetscLogEventBegin(PS_EV_P2G, 0, 0, 0, 0));
-  PetscCall(VecGetArray(S->Gl, &g));
-  if (dim == 3) P2GAPIC(S, f, ix, dt, 3, g);
-  else P2GAPIC(S, f, ix, dt, 2, g);
+  if (S->dim == 3) P2GAPIC(S, f, ix, dt, 3, S->g);
+  else P2GAPIC(S, f, ix, dt, 2, S->g);
   PetscCall(PetscLogEventEnd(PS_EV_P2G, 0, 0, 0, 0));
-  PetscCall(PSHaloReduce(S->sfg, g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-  /* 2. grid: v_i = (mv)_i / m_i with the boundary conditions */
-  PetscCall(PetscLogEventBegin(PS_EV_Grid, 0, 0, 0, 0));
-  PSGridVelocity(S, ix, g, dof, g + 1, dof);
-  PetscCall(PetscLogEventEnd(PS_EV_Grid, 0, 0, 0, 0));
-  PetscCall(PSHaloBcast(S->sfg, g));
-
-  /* 3. G2P: velocity, affine velocity, displacement */
+/* 3. G2P: velocity, affine velocity, displacement */
+PetscErrorCode PSAPICG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
+{
+  PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
-  if (dim == 3) G2PAPIC(S, f, ix, dt, 3, g);
-  else G2PAPIC(S, f, ix, dt, 2, g);
-  PetscCall(VecRestoreArray(S->Gl, &g));
+  if (S->dim == 3) G2PAPIC(S, f, ix, dt, 3, S->g);
+  else G2PAPIC(S, f, ix, dt, 2, S->g);
   PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

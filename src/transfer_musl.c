@@ -21,6 +21,7 @@
   two vector multiply-adds in each pass.
 */
 #include "step.h"
+#include "cells/cells.h"
 
 /* 1. P2G of one marker, dim and N constant */
 static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, PetscReal lp, PetscReal *g, PSShape *shp)
@@ -213,7 +214,7 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
   }
 }
 
-/* the four compiled forms of each kernel */
+/* the four compiled forms of each kernel (N: nodes per direction) */
 #define PS_MUSL_DISPATCH(call3, call2) \
   do { \
     if (S->dim == 3) { \
@@ -225,49 +226,53 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
     } \
   } while (0)
 
-/* MUSL transfers (solver.h, steps 1-4 and L_p): leaves each marker's v_p,
-   dx_p, shape functions (S->shape) and velocity gradient (S->Lp), and the
-   re-projected nodal velocity in S->Hl (output). */
-PetscErrorCode PSTransferMUSL(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
+/* 1. P2G of the markers into S->g (the grid phase sums the ghosts) */
+PetscErrorCode PSMUSLP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
-  const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2;
-  PetscReal     *g, *hv;
+  const PetscInt N = PSShapeNodes(S->run.shape);
+  PetscReal     *g = S->g;
 
   PetscFunctionBeginUser;
-  /* 1. P2G: mass, momentum, internal force -(sigma - q I) grad N V */
   PetscCall(PetscLogEventBegin(PS_EV_P2G, 0, 0, 0, 0));
-  PetscCall(VecGetArray(S->Gl, &g));
 #define P2G3(n) P2GAll(S, f, ix, 3, n, g)
 #define P2G2(n) P2GAll(S, f, ix, 2, n, g)
   PS_MUSL_DISPATCH(P2G3, P2G2);
   PetscCall(PetscLogEventEnd(PS_EV_P2G, 0, 0, 0, 0));
-  PetscCall(PSHaloReduce(S->sfg, g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-  /* 2. grid: v_new = v_old + dt f/m with the boundary conditions (grid.c) */
-  PetscCall(PetscLogEventBegin(PS_EV_Grid, 0, 0, 0, 0));
-  PSGridUpdateMUSL(S, ix, dt, g);
-  PetscCall(PetscLogEventEnd(PS_EV_Grid, 0, 0, 0, 0));
-  PetscCall(PSHaloBcast(S->sfg, g));
+/* 3. G2P and 4. the re-projection's P2G into S->hv */
+PetscErrorCode PSMUSLG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
+{
+  const PetscInt N = PSShapeNodes(S->run.shape);
+  PetscReal     *g = S->g, *hv = S->hv;
 
-  /* 3. G2P and 4. the re-projection's P2G */
+  PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
-  PetscCall(VecGetArray(S->Hl, &hv));
 #define G2P3(n) G2PAll(S, f, ix, dt, 3, n, g, hv)
 #define G2P2(n) G2PAll(S, f, ix, dt, 2, n, g, hv)
   PS_MUSL_DISPATCH(G2P3, G2P2);
   PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
-  /* 4. re-projected velocity v_i = (mv)_i / m_i with the boundary conditions;
-     5. then each marker's L_p from it */
+/* 4. the re-projected velocity v_i = (mv)_i / m_i with the boundary
+   conditions (the cell materials' momentum P^C_i joins the markers' on the
+   owned nodes), then 5. each marker's L_p from it into S->Lp */
+PetscErrorCode PSMUSLReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
+{
+  const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), hdof = PSReprojectDof(S);
+  PetscReal     *hv = S->hv;
+
+  PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_Reproject, 0, 0, 0, 0));
   PetscCall(PSHaloReduce(S->sfh, hv));
-  PSGridVelocity(S, ix, g, dof, hv + hdof - dim, hdof);
+  if (S->cells) PSGridAddOwned(S, ix, S->cells->P, dim, hv + hdof - dim, hdof);
+  PSGridVelocity(S, ix, S->g, PSGridDof(S), hv + hdof - dim, hdof);
   PetscCall(PSHaloBcast(S->sfh, hv));
 #define GRAD3(n) GradientAll(S, f, ix, 3, n, hv)
 #define GRAD2(n) GradientAll(S, f, ix, 2, n, hv)
   PS_MUSL_DISPATCH(GRAD3, GRAD2);
   PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
-  PetscCall(VecRestoreArray(S->Hl, &hv));
-  PetscCall(VecRestoreArray(S->Gl, &g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -45,6 +45,8 @@ cdef extern from "plyshock.h":
         PetscReal axis[3]
         PetscReal radius
         PetscReal length
+        PetscInt cellmat
+        PetscReal pressure
     ctypedef struct PSScene:
         PetscInt dim
         PetscReal lower[3]
@@ -58,6 +60,8 @@ cdef extern from "plyshock.h":
         PetscInt ndamage
         PetscReal *T0
         PetscBool need_affine
+        PetscInt ncellmat
+        PetscInt *cellmat
         PetscInt nbody
         PSBody *bodies
     ctypedef struct PSInsertStats:
@@ -112,7 +116,7 @@ cdef extern from "solver.h":
         PetscReal Gc[4]
         PetscReal E[4]
     ctypedef struct PSMaterial:
-        PetscReal rho0, K, c0, s, gamma0, G, Y0, A, B, n, C, m, T_melt, T_room, eps_dot0, cv, chi, spall
+        PetscReal rho0, K, c0, s, gamma0, gamma, G, Y0, A, B, n, C, m, T_melt, T_room, eps_dot0, cv, chi, spall
         PetscReal D[5]
         PetscBool aniso
         PSPly ply
@@ -131,6 +135,8 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverMaxSpeed(PSSolver *)
     PetscErrorCode PSSolverStep(PSSolver *, PetscReal)
     PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *)
+    PetscErrorCode PSSolverCellsGet(PSSolver *, PetscInt *, PetscInt *, PetscInt *, PetscReal *)
+    PetscErrorCode PSSolverCellNodesGet(PSSolver *, PetscInt *, PetscInt *, PetscReal *)
     PetscErrorCode PSSolverRun(PSSolver *, const char *, PetscInt, const char **, const char **, const char **, const char **)
     PetscErrorCode PSMaterialInit(PSMaterial *, const char *, const char *, const char *)
     PetscErrorCode PSMaterialDrive(const PSMaterial *, const PetscReal *, PetscInt, const PetscReal *, PetscReal, PetscReal, PetscReal *, PetscReal *, PetscReal *, PetscReal *)
@@ -191,6 +197,11 @@ cdef class CScene:
         self.s.T0 = <PetscReal *>calloc(max(1, len(dens)), sizeof(PetscReal))
         for i in range(len(dens)):
             self.s.T0[i] = T0[i]
+        cm = spec.get("cellmat", [])
+        self.s.ncellmat = len(cm)
+        self.s.cellmat = <PetscInt *>calloc(max(1, len(cm)), sizeof(PetscInt))
+        for i in range(len(cm)):
+            self.s.cellmat[i] = cm[i]
         bodies = spec["bodies"]
         self.s.nbody = len(bodies)
         self.s.bodies = <PSBody *>calloc(max(1, len(bodies)), sizeof(PSBody))
@@ -213,6 +224,8 @@ cdef class CScene:
                     B.e[j][k] = b["e"][j][k]
             B.radius = b["radius"]
             B.length = b["length"]
+            B.cellmat = b.get("cellmat", -1)
+            B.pressure = b.get("pressure", 0.0)
             z = b["z"]
             B.nply = max(0, len(z) - 1)
             self.maxply = max(self.maxply, B.nply)
@@ -235,6 +248,7 @@ cdef class CScene:
                 free(self.s.bodies[i].ply_material)
                 free(self.s.bodies[i].ply_axes)
         free(self.s.bodies)
+        free(self.s.cellmat)
         free(self.s.density)
         free(self.s.T0)
 
@@ -441,6 +455,36 @@ cdef class Solver:
                     lost_mass=T.lost_mass, lost_p=[T.lost_p[0], T.lost_p[1], T.lost_p[2]], lost_energy=T.lost_energy,
                     max_pressure=T.max_pressure, markers=T.markers, lost_markers=T.lost_markers)
 
+    def cells(self):
+        """This rank's owned cells: {start (3), state (nz, ny, nx, dof) with
+        per material (V, M, E, ...) blocks of ms reals, nmat, ms}; None
+        without cell materials."""
+        cdef PetscInt cs[3]
+        cdef PetscInt cm[3]
+        cdef PetscInt lay[3]
+        cdef double[::1] buf
+        CHK(PSSolverCellsGet(self.S, cs, cm, lay, NULL))
+        if lay[2] == 0:
+            return None
+        a = np.zeros(max(1, cm[0] * cm[1] * cm[2] * lay[2]))
+        buf = a
+        CHK(PSSolverCellsGet(self.S, cs, cm, lay, &buf[0]))
+        return dict(start=[cs[0], cs[1], cs[2]], state=a[:cm[0] * cm[1] * cm[2] * lay[2]].reshape(cm[2], cm[1], cm[0], lay[2]),
+                    nmat=lay[0], ms=lay[1])
+
+    def cell_nodes(self):
+        """This rank's owned nodes (physical indices from start): (nz, ny, nx, 1 + dim)
+        of the cell materials' nodal mass m^C and momentum P^C."""
+        cdef PetscInt ns[3]
+        cdef PetscInt nm[3]
+        cdef double[::1] buf
+        CHK(PSSolverCellNodesGet(self.S, ns, nm, NULL))
+        dim = 3 if nm[2] > 1 else 2
+        a = np.zeros(max(1, nm[0] * nm[1] * nm[2] * (1 + dim)))
+        buf = a
+        CHK(PSSolverCellNodesGet(self.S, ns, nm, &buf[0]))
+        return dict(start=[ns[0], ns[1], ns[2]], nodes=a[:nm[0] * nm[1] * nm[2] * (1 + dim)].reshape(nm[2], nm[1], nm[0], 1 + dim))
+
     def run(self, str outdir, dict attrs, list body_names, list material_names):
         names = _Strings(list(attrs.keys()))
         values = _Strings([str(v) for v in attrs.values()])
@@ -456,6 +500,7 @@ cdef int fill_material(PSMaterial *M, dict md) except -1:
     g = lambda key: float(md.get(key, 0.0))
     memset(M, 0, sizeof(PSMaterial))
     M.rho0, M.K, M.c0, M.s, M.gamma0, M.G = g("rho0"), g("K"), g("c0"), g("s"), g("gamma0"), g("G")
+    M.gamma = g("gamma")
     M.Y0, M.A, M.B, M.n, M.C, M.m = g("Y0"), g("A"), g("B"), g("n"), g("C"), g("m")
     M.T_melt, M.T_room, M.eps_dot0, M.cv, M.chi, M.spall = g("T_melt"), g("T_room"), g("eps_dot0"), g("cv"), g("chi"), g("spall")
     for k in range(5):

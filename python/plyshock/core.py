@@ -21,12 +21,14 @@ def scene_to_c(scene):
     """The plain dict _core.CScene reads (SI units, 3-vectors)."""
     dim = scene.dimension
     pad = lambda v: list(v) + [0.0] * (3 - len(v))
+    cellmat = scene.cell_materials
     bodies = []
     for b in scene.bodies:
         d = dict(kind=b.kind, priority=b.priority or 0, subdivision=b.subdivision,
                  volume_tolerance=b.volume_tolerance, sliver_fraction=b.sliver_fraction,
                  velocity=pad(b.velocity), origin=[0.0] * 3, e=np.eye(3).tolist(), size=[0.0] * 3,
-                 center=[0.0] * 3, axis=[0.0] * 3, radius=0.0, length=0.0, z=[])
+                 center=[0.0] * 3, axis=[0.0] * 3, radius=0.0, length=0.0, z=[],
+                 cellmat=cellmat.index(b._mat) if b.representation == "cells" else -1, pressure=b.pressure or 0.0)
         if b.kind == "laminate":
             lam = b.laminate
             size = list(lam.size) + ([0.0] if dim == 2 else [])
@@ -53,7 +55,7 @@ def scene_to_c(scene):
                 ndamage=4 if any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
                 else 1 if any(m.failure is not None for m in scene.materials) else 0,
                 T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials],
-                need_affine=transfer(scene) == "apic")
+                need_affine=transfer(scene) == "apic", cellmat=cellmat)
 
 
 def run_options(scene):
@@ -170,7 +172,9 @@ def initialize(scene, cs=None, comm=None, restart=False):
     sizes = tuple(n + 1 + 2 * PAD for n in g.cells)
     da = PETSc.DMDA().create(dim=dim, dof=dof, sizes=sizes, stencil_width=2,
                              stencil_type=PETSc.DMDA.StencilType.BOX, comm=comm)
-    ranges = balanced_ranges(cs, g.cells, da.getProcSizes()[:dim], comm.tompi4py())
+    # cell materials fill the grid: there a cell weighs like a few markers
+    ranges = balanced_ranges(cs, g.cells, da.getProcSizes()[:dim], comm.tompi4py(),
+                             grid_weight=4.0 if scene.cell_materials else 0.1)
     if ranges is not None:
         # the same process grid, its cuts moved so each rank holds a like share of markers
         da.destroy()
@@ -321,6 +325,9 @@ def material_to_c(m, path):
     el = m.elastic or {}
     if el.get("type") == "orthotropic":
         d.update(ply_data(m))
+    if m.is_gas:
+        d.update(eos="ideal-gas", gamma=m.eos["gamma"], G=0.0, cv=float(m.eos.get("cv", 0.0)))
+        return d
     if m.eos is not None:
         d.update(eos="mie-gruneisen", c0=m.eos["c0"], s=m.eos["s"], gamma0=m.eos["gamma0"],
                  spall=float(m.eos.get("spall_pressure", 0.0)))

@@ -56,7 +56,8 @@ ELASTIC_KEYS = {"isotropic": ("type", "E", "nu"),
 PLY_STRENGTHS = ("Xt", "Xc", "Yt", "Yc", "S12", "S23")
 FRACTURE_PLANE_DEG = 53.0   # IM7/8552 fracture-plane angle under transverse compression (NASA CompDam, after Camanho)
 MODEL_KEYS = {
-    "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0", "spall_pressure")},
+    "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0", "spall_pressure"),
+            "ideal-gas": ("type", "gamma", "cv")},                   # gamma > 1; cv J/kg/K (optional: temperature)
     "strength": {"none": ("type",), "elastic-plastic": ("type", "yield_stress", "taylor_quinney"),
                  "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney")},
     "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5"),
@@ -139,6 +140,13 @@ class Material:
         for k in ("eos", "strength", "failure"):
             if getattr(self, k) is not None:
                 self._model(k, MODEL_KEYS[k], path)
+        if self.is_gas:
+            self.eos["gamma"] = number(self.eos["gamma"], f"{path}.eos.gamma", 1, None, lo_open=True)
+            if "cv" in self.eos:
+                self.eos["cv"] = number(self.eos["cv"], f"{path}.eos.cv", 0, None, lo_open=True)
+            for k in ("shear_modulus", "strength", "failure", "elastic"):
+                if getattr(self, k) is not None:
+                    raise DeckError(f"{path}.{k}", "does not apply to an ideal gas (no strength, no failure); remove it")
         if self.shear_modulus is not None:
             self.shear_modulus = number(self.shear_modulus, f"{path}.shear_modulus", 0, None, lo_open=True)
         if self.specific_heat is not None:
@@ -183,7 +191,7 @@ class Material:
         required = {"isotropic": ("E", "nu"), "orthotropic": ELASTIC_KEYS["orthotropic"][1:], "mie-gruneisen": ("c0", "s", "gamma0"),
                     "johnson-cook": ("A", "B", "n", "C", "m", "T_melt") if key == "strength" else ("D1", "D2", "D3", "D4", "D5"),
                     "transversely-isotropic": ELASTIC_KEYS["transversely-isotropic"][1:], "hashin": MODEL_KEYS["failure"]["hashin"][1:],
-                    "elastic-plastic": ("yield_stress",), "none": ()}[m["type"]]
+                    "elastic-plastic": ("yield_stress",), "none": (), "ideal-gas": ("gamma",)}[m["type"]]
         for k in required:
             if k not in m:
                 raise DeckError(f"{path}.{key}.{k}", f"is required for {key} type {m['type']}")
@@ -191,6 +199,10 @@ class Material:
     @property
     def anisotropic(self):
         return isinstance(self.elastic, dict) and self.elastic.get("type") == "orthotropic"
+
+    @property
+    def is_gas(self):
+        return isinstance(self.eos, dict) and self.eos.get("type") == "ideal-gas"
 
 
 @dataclass
@@ -255,6 +267,7 @@ class Cylinder:
 
 
 SHAPES = {"laminate": Laminate, "box": Box, "sphere": Sphere, "cylinder": Cylinder}
+REPRESENTATIONS = ("markers", "cells")
 SHAPE_FUNCTIONS = ("linear", "gimp", "bspline2")
 TRANSFERS = ("musl", "apic")
 
@@ -325,9 +338,11 @@ class Body:
     sliver_fraction: float = 1e-6
     priority: Optional[int] = None
     clip: bool = False
+    representation: str = "markers"      # markers | cells (Eulerian volume fractions, remapped every step)
+    pressure: Optional[float] = None     # Pa: initial pressure (sets e0 through the EOS at the initial density)
 
     KEYS = ("name", "laminate", "box", "sphere", "cylinder", "material", "velocity", "subdivision",
-            "volume_tolerance", "sliver_fraction", "priority", "clip")
+            "volume_tolerance", "sliver_fraction", "priority", "clip", "representation", "pressure")
 
     @property
     def kind(self):
@@ -365,6 +380,7 @@ class Scene:
         bnames = {}
         for i, b in enumerate(self.bodies):
             self._validate_body(b, f"bodies[{i}]", names)
+            self._validate_representation(b, f"bodies[{i}]")
             if b.name in bnames:
                 raise DeckError(f"bodies[{i}].name", f"{b.name!r} is already bodies[{bnames[b.name]}]")
             bnames[b.name] = i
@@ -406,6 +422,10 @@ class Scene:
         if not isinstance(b.clip, bool):
             raise DeckError(f"{path}.clip", f"must be true or false, got {b.clip!r}")
         b.velocity = vector(b.velocity if b.velocity is not None else [0.0] * dim, dim, f"{path}.velocity")
+        if b.representation not in REPRESENTATIONS:
+            raise DeckError(f"{path}.representation", f"unknown representation {b.representation!r}; allowed: {'|'.join(REPRESENTATIONS)}")
+        if b.pressure is not None:
+            b.pressure = number(b.pressure, f"{path}.pressure")
         L = self.grid.upper[0] - self.grid.lower[0]
         k = b.kind
         if k == "laminate":
@@ -451,6 +471,34 @@ class Scene:
                 c.axis = list(a / np.linalg.norm(a))
                 c.radius = number(c.radius, f"{sp}.radius", 0, None, lo_open=True)
                 c.length = number(c.length, f"{sp}.length", 0, None, lo_open=True)
+
+    def _validate_representation(self, b, path):
+        """A body in cells: a material with a state EOS, no laminate; an ideal
+        gas needs its initial pressure (any representation)."""
+        mats = [self.materials[i] for i in ([b._mat] if b.kind != "laminate" else b._ply_mat)]
+        if b.representation == "cells":
+            if b.kind == "laminate":
+                raise DeckError(f"{path}.representation", "a laminate's plies ride on markers (they keep their fibre axes); use markers")
+            m = mats[0]
+            if m.eos is None:
+                raise DeckError(f"{path}.representation", f"material {m.name!r} has no eos: a material in cells needs one "
+                                "(mie-gruneisen or ideal-gas; its state is density and energy)")
+            if m.anisotropic:
+                raise DeckError(f"{path}.representation", f"material {m.name!r} is orthotropic: plies ride on markers")
+            if b.subdivision != 1:
+                raise DeckError(f"{path}.subdivision", "applies to markers only; a body in cells is inserted as exact volume fractions")
+        for m in mats:
+            if m.is_gas and b.pressure is None:
+                raise DeckError(f"{path}.pressure", f"is required for a body of ideal-gas material {m.name!r} (Pa, > 0): "
+                                "it sets the gas's initial energy")
+            if m.is_gas and b.pressure <= 0:
+                raise DeckError(f"{path}.pressure", f"{b.pressure} is out of range for an ideal gas; allowed (0, inf)")
+
+    @property
+    def cell_materials(self):
+        """Ids of the materials of bodies in cells, in deck order."""
+        used = {b._mat for b in self.bodies if b.representation == "cells"}
+        return [i for i in range(len(self.materials)) if i in used]
 
     @property
     def anisotropic(self):

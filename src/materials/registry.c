@@ -11,6 +11,7 @@ PetscErrorCode PSMaterialsRegisterAll(void)
   if (PSEOSList) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFunctionListAdd(&PSEOSList, "none", PSEOSHydroelastic));
   PetscCall(PetscFunctionListAdd(&PSEOSList, "mie-gruneisen", PSEOSMieGruneisen));
+  PetscCall(PetscFunctionListAdd(&PSEOSList, "ideal-gas", PSEOSIdealGas));
   PetscCall(PetscFunctionListAdd(&PSStrengthList, "elastic-plastic", PSStrengthElasticPlastic));
   PetscCall(PetscFunctionListAdd(&PSStrengthList, "johnson-cook", PSStrengthJohnsonCook));
   PetscCall(PetscFunctionListAdd(&PSFailureList, "johnson-cook", PSFailureJohnsonCook));

@@ -1,0 +1,339 @@
+/*
+  cells.c - the Eulerian cells' arrays, their exact insertion, totals, output
+  and checkpoint (cells.h describes the state).
+
+  Insertion: for every owned cell and every body in cells, the body's part of
+  the cell, less the bodies of higher priority, is computed exactly by the
+  piece kernel that inserts the plies (geom.c; curved surfaces to the body's
+  volume tolerance); its volume gives V_k, rho_k0 V_k the mass, and the body's
+  initial pressure the specific energy e0 = (p - A)/B of the EOS p = A + B e at
+  the initial density.  The body's velocity gives the nodal momentum: each
+  cell sends M_c v / 2^dim to each of its corners.
+*/
+#include "cells.h"
+#include "../geom.h"
+
+/* cells [lc[k], lc[k+1]) of rank k along one direction, from its nodes (markers.c's rule) */
+static PetscErrorCode CellRanges(const PSSolver *S, PetscInt d, PetscInt nc, PetscInt **lc)
+{
+  PetscInt r, P = S->nproc[d];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(P + 1, lc));
+  for (r = 0; r <= P; r++) (*lc)[r] = d < S->dim ? PetscMin(PetscMax(S->lx[d][r] - PS_PAD, 0), nc) : (r ? 1 : 0);
+  (*lc)[P] = d < S->dim ? nc : 1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
+{
+  const PSScene *scene = S->scene;
+  PSCells       *C;
+  PetscInt       d, k, *lc[3] = {NULL, NULL, NULL}, nn = 1, sizes[3];
+  PetscBool      strength = PETSC_FALSE;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)S->da);
+  PSIndex        ix;
+
+  PetscFunctionBeginUser;
+  PetscCheck(scene->ncellmat <= PS_MAX_CELLMAT, comm, PETSC_ERR_SUP, "%" PetscInt_FMT " cell materials; at most %d", scene->ncellmat, PS_MAX_CELLMAT);
+  PetscCall(PetscNew(&C));
+  C->dim  = S->dim;
+  C->nmat = scene->ncellmat;
+  for (k = 0; k < C->nmat; k++) {
+    C->mat[k] = scene->cellmat[k];
+    if (mats[C->mat[k]].G > 0.0) strength = PETSC_TRUE;
+  }
+  C->ns        = PSStressComponents(S->dim);
+  C->nq        = strength ? C->ns + 2 : 0;
+  C->ms        = 3 + C->nq;
+  C->dof       = C->nmat * C->ms + PS_CX_N;
+  C->hourglass = 0.1;
+  PetscCall(PetscMalloc1(scene->nmaterial, &C->Kmat));
+  for (k = 0; k < scene->nmaterial; k++) {
+    PetscReal A, B, c2;
+    PetscCall(mats[k].eos_fn(&mats[k], 1.0, 0.0, 0.0, &A, &B, &c2));
+    C->Kmat[k] = mats[k].aniso ? mats[k].ply.K_R : mats[k].rho0 * c2;
+  }
+  C->Vc        = 1.0;
+  for (d = 0; d < 3; d++) {
+    C->nc[d] = d < S->dim ? scene->cells[d] : 1;
+    if (d < S->dim) C->Vc *= S->h[d];
+  }
+  /* owned cells and the ghosted box */
+  PetscCall(PSCellOwnership(S->da, C->cs, C->ce));
+  C->ncl = 1;
+  for (d = 0; d < 3; d++) {
+    C->gs[d] = d < S->dim ? PetscMax(C->cs[d] - PS_CELL_GHOST, 0) : 0;
+    C->gm[d] = (d < S->dim ? PetscMin(C->ce[d] + PS_CELL_GHOST, C->nc[d]) : 1) - C->gs[d];
+    C->ncl *= C->gm[d];
+    PetscCall(CellRanges(S, d, C->nc[d], &lc[d]));
+  }
+  PetscCall(PetscCalloc2(C->ncl * C->dof, &C->u, C->ncl * C->dof, &C->un));
+  PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, C->dof, &C->sfu));
+  /* the cells without ghosts: the same ownership, for HDF5 output and checkpoints */
+  for (d = 0; d < 3; d++) {
+    PetscInt r;
+    for (r = 0; r < S->nproc[d]; r++) lc[d][r] = lc[d][r + 1] - lc[d][r];
+    sizes[d] = C->nc[d];
+  }
+  if (S->dim == 2) PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, sizes[0], sizes[1], S->nproc[0], S->nproc[1], C->dof, 0, lc[0], lc[1], &C->dac));
+  else PetscCall(DMDACreate3d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, sizes[0], sizes[1], sizes[2], S->nproc[0], S->nproc[1], S->nproc[2], C->dof, 0, lc[0], lc[1], lc[2], &C->dac));
+  PetscCall(DMSetUp(C->dac));
+  for (d = 0; d < 3; d++) PetscCall(PetscFree(lc[d]));
+  /* nodal arrays in the node DMDA's local layout */
+  PetscCall(PSGridIndex(S->da, &ix));
+  for (d = 0; d < 3; d++) nn *= ix.gm[d];
+  C->nnl = nn;
+  PetscCall(PetscCalloc4(nn * S->dim, &C->P, nn * S->dim, &C->Pn, nn, &C->mcn, nn * S->dim, &C->vh));
+  PetscCall(PSHaloCreate(S, S->dim, &C->sfp));
+  S->cells = C;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsDestroy(PSCells **C)
+{
+  PetscFunctionBeginUser;
+  if (!*C) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscFree2((*C)->u, (*C)->un));
+  PetscCall(PetscFree4((*C)->P, (*C)->Pn, (*C)->mcn, (*C)->vh));
+  PetscCall(PetscSFDestroy(&(*C)->sfu));
+  PetscCall(PetscSFDestroy(&(*C)->sfp));
+  PetscCall(DMDestroy(&(*C)->dac));
+  PetscCall(PetscFree((*C)->Kmat));
+  PetscCall(PetscFree(*C));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* owners' cells to the ghosts (the whole state) */
+PetscErrorCode PSCellsExchange(PSCells *C)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PSHaloBcast(C->sfu, C->u));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* m^C_i = sum_c M_c / 2^dim over the cells around each local node (ghost
+   nodes included where their cells are in the ghosted box) */
+PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
+{
+  PSCells        *C   = S->cells;
+  const PetscInt  dim = S->dim, nz = dim == 3 ? 2 : 1;
+  const PetscReal w   = dim == 3 ? 0.125 : 0.25;
+  PetscInt        i, j, k, a, b, c, m;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscArrayzero(C->mcn, C->nnl));
+  for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
+    for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++)
+      for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) {
+        const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        PetscReal        Mc = 0.0;
+        for (m = 0; m < C->nmat; m++) Mc += u[m * C->ms + PS_CM];
+        if (Mc == 0.0) continue;
+        /* corners: DMDA nodes i + PS_PAD + a, ... (those in the local node array) */
+        for (c = 0; c < nz; c++)
+          for (b = 0; b < 2; b++)
+            for (a = 0; a < 2; a++) {
+              const PetscInt n[3] = {i + PS_PAD + a, j + PS_PAD + b, dim == 3 ? k + PS_PAD + c : 0};
+              if (n[0] < ix->gs[0] || n[0] >= ix->gs[0] + ix->gm[0] || n[1] < ix->gs[1] || n[1] >= ix->gs[1] + ix->gm[1] || n[2] < ix->gs[2] || n[2] >= ix->gs[2] + ix->gm[2]) continue;
+              C->mcn[Lidx(ix, n[0], n[1], n[2])] += w * Mc;
+            }
+      }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* pressure p (Pa) and sound speed c (m/s) of cell material k from its block
+   (V, M, E, ...): p = A + B e at rho = M / V, c^2 from the EOS and 4G/3rho */
+PetscErrorCode PSCellsPressure(const PSSolver *S, PetscInt k, const PetscReal *blk, PetscReal *p, PetscReal *c)
+{
+  const PSMaterial *M = &S->mat[S->cells->mat[k]];
+  PetscReal         J, A, B, c2, e;
+
+  PetscFunctionBeginUser;
+  if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
+    *p = 0.0;
+    *c = 0.0;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  J = M->rho0 * blk[PS_CV] / blk[PS_CM];
+  e = blk[PS_CE] / blk[PS_CM];
+  PetscCall(M->eos_fn(M, J, 0.0, 0.0, &A, &B, &c2));
+  *p = A + B * e;
+  if (M->spall < 0.0 && *p < M->spall) *p = 0.0;
+  PetscCall(M->eos_fn(M, J, *p, 0.0, &A, &B, &c2)); /* c^2 of the ideal gas needs p */
+  *c = PetscSqrtReal(PetscMax(c2, 0.0) + 4.0 * M->G * J / (3.0 * M->rho0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Exact insertion of the bodies in cells (see the top of the file), then
+   the ghosts and nodal masses. */
+PetscErrorCode PSCellsInsert(PSSolver *S)
+{
+  const PSScene *scene = S->scene;
+  PSCells       *C     = S->cells;
+  const PetscInt dim   = S->dim, nz = dim == 3 ? 2 : 1;
+  PetscReal      hmax  = 0.0;
+  PetscInt       b, d, i, j, k, a, bb, c;
+  PSIndex        ix;
+
+  PetscFunctionBeginUser;
+  PetscCall(PSGridIndex(S->da, &ix));
+  PetscCall(PetscArrayzero(C->u, C->ncl * C->dof));
+  PetscCall(PetscArrayzero(C->P, C->nnl * dim));
+  for (d = 0; d < dim; d++) hmax = PetscMax(hmax, S->h[d]);
+  for (b = 0; b < scene->nbody; b++) {
+    const PSBody     *B = &scene->bodies[b];
+    const PSMaterial *M;
+    PSRegion          reg, sub[PS_MAX_SUB];
+    PetscReal         blo[3], bhi[3], A, Bc, c2, e0;
+    PetscInt          bcs[3], bce[3], nsub = 0, o;
+    if (B->cellmat < 0) continue;
+    M = &S->mat[C->mat[B->cellmat]];
+    /* e0 from the initial pressure at the initial density (J = 1) */
+    PetscCall(M->eos_fn(M, 1.0, B->pressure, 0.0, &A, &Bc, &c2));
+    PetscCheck(Bc > 0.0 || B->pressure == A, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "body %" PetscInt_FMT ": its EOS cannot reach the initial pressure %g Pa at its density", b, (double)B->pressure);
+    e0 = Bc > 0.0 ? (B->pressure - A) / Bc : 0.0;
+    PetscCall(PSBodyBoundingBox(scene, b, blo, bhi));
+    PSCellRange(scene, blo, bhi, bcs, bce);
+    for (d = 0; d < 3; d++) {
+      bcs[d] = PetscMax(bcs[d], C->cs[d]);
+      bce[d] = PetscMin(bce[d], C->ce[d]);
+    }
+    if (bcs[0] >= bce[0] || bcs[1] >= bce[1] || bcs[2] >= bce[2]) continue;
+    PSRegionSetup(scene, B, -1, hmax, &reg);
+    for (o = 0; o < scene->nbody; o++) {
+      if (o == b || scene->bodies[o].priority <= B->priority) continue;
+      PetscCheck(nsub < PS_MAX_SUB, PETSC_COMM_SELF, PETSC_ERR_SUP, "body %" PetscInt_FMT " lies under more than %d higher-priority bodies", b, PS_MAX_SUB);
+      PSRegionSetup(scene, &scene->bodies[o], -1, hmax, &sub[nsub++]);
+    }
+    for (k = bcs[2]; k < bce[2]; k++)
+      for (j = bcs[1]; j < bce[1]; j++)
+        for (i = bcs[0]; i < bce[0]; i++) {
+          const PetscInt idx[3] = {i, j, k}, q0[3] = {0, 0, 0};
+          double         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, m[4] = {0, 0, 0, 0};
+          PetscReal     *blk, dm;
+          PSSubCellBounds(scene, idx, 1, q0, lo, hi);
+          if (PSRegionClassify(dim, &reg, lo, hi) == PS_OUT) continue;
+          PSPieceMoments(dim, lo, hi, 1, &reg, nsub, sub, m);
+          if (m[0] <= 1e-14 * C->Vc) continue;
+          blk = &C->u[C->dof * PSCellIdx(C, i, j, k) + B->cellmat * C->ms];
+          dm  = M->rho0 * m[0];
+          blk[PS_CV] += m[0];
+          blk[PS_CM] += dm;
+          blk[PS_CE] += dm * e0;
+          if (C->nq) blk[PS_CQ + C->ns + 1] += dm * M->T_room; /* M T; no deviator, no plastic strain */
+          /* the body's velocity: M v / 2^dim to each corner */
+          for (c = 0; c < nz; c++)
+            for (bb = 0; bb < 2; bb++)
+              for (a = 0; a < 2; a++) {
+                const PetscInt o2 = Lidx(&ix, i + PS_PAD + a, j + PS_PAD + bb, dim == 3 ? k + PS_PAD + c : 0);
+                for (d = 0; d < dim; d++) C->P[dim * o2 + d] += dm * B->velocity[d] / (dim == 3 ? 8.0 : 4.0);
+              }
+        }
+  }
+  /* corners on other ranks: sums to the owners, then back */
+  PetscCall(PSHaloReduce(C->sfp, C->P));
+  PetscCall(PSHaloBcast(C->sfp, C->P));
+  PetscCall(PSCellsExchange(C));
+  PetscCall(PSCellsNodalMass(S, &ix));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* an owned node of the node DMDA (its local index o) */
+static inline PetscBool OwnedNode(const PSIndex *ix, PetscInt i, PetscInt j, PetscInt k)
+{
+  return i >= ix->os[0] && i < ix->os[0] + ix->om[0] && j >= ix->os[1] && j < ix->os[1] + ix->om[1] && k >= ix->os[2] && k < ix->os[2] + ix->om[2];
+}
+
+/* this rank's share of the totals: loc = mass, momentum (3), kinetic,
+   internal energy of the cell materials; the largest cell pressure */
+PetscErrorCode PSCellsTotals(PSSolver *S, PetscReal loc[6], PetscReal *pmax)
+{
+  PSCells       *C   = S->cells;
+  const PetscInt dim = S->dim;
+  PetscInt       i, j, k, m, d;
+  PSIndex        ix;
+
+  PetscFunctionBeginUser;
+  PetscCall(PSGridIndex(S->da, &ix));
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        for (m = 0; m < C->nmat; m++) {
+          const PetscReal *blk = &u[m * C->ms];
+          PetscReal        p, c;
+          if (blk[PS_CM] <= 0.0) continue;
+          loc[0] += blk[PS_CM];
+          loc[5] += blk[PS_CE];
+          PetscCall(PSCellsPressure(S, m, blk, &p, &c));
+          *pmax = PetscMax(*pmax, p);
+        }
+      }
+  for (k = ix.os[2]; k < ix.os[2] + ix.om[2]; k++)
+    for (j = ix.os[1]; j < ix.os[1] + ix.om[1]; j++)
+      for (i = ix.os[0]; i < ix.os[0] + ix.om[0]; i++) {
+        const PetscInt   o = Lidx(&ix, i, j, k);
+        const PetscReal *P = &C->P[dim * o];
+        PetscReal        p2 = 0.0;
+        for (d = 0; d < dim; d++) {
+          loc[1 + d] += P[d];
+          p2 += P[d] * P[d];
+        }
+        if (C->mcn[o] > 0.0) loc[4] += 0.5 * p2 / C->mcn[o];
+      }
+  (void)OwnedNode;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* This rank's owned cells copied out (ny x nx x dof or nz x ny x nx x dof,
+   x fastest), their corner cs and size cm, and the layout (nmat, ms, dof);
+   out may be NULL to ask for the sizes.  For tests and post-processing. */
+PetscErrorCode PSSolverCellsGet(PSSolver *S, PetscInt cs[3], PetscInt cm[3], PetscInt layout[3], PetscReal *out)
+{
+  PSCells *C = S->cells;
+  PetscInt i, j, k, d, n = 0;
+
+  PetscFunctionBeginUser;
+  if (!C) {
+    for (d = 0; d < 3; d++) cs[d] = cm[d] = layout[d] = 0;
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
+  for (d = 0; d < 3; d++) {
+    cs[d] = C->cs[d];
+    cm[d] = C->ce[d] - C->cs[d];
+  }
+  layout[0] = C->nmat;
+  layout[1] = C->ms;
+  layout[2] = C->dof;
+  if (!out) PetscFunctionReturn(PETSC_SUCCESS);
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++, n++) PetscCall(PetscArraycpy(&out[n * C->dof], &C->u[C->dof * PSCellIdx(C, i, j, k)], C->dof));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The cell materials' nodal mass and momentum of this rank's owned nodes
+   (physical node indices ns, sizes nm; per node m^C then P^C, dim reals). */
+PetscErrorCode PSSolverCellNodesGet(PSSolver *S, PetscInt ns[3], PetscInt nm[3], PetscReal *out)
+{
+  PSCells *C = S->cells;
+  PSIndex  ix;
+  PetscInt i, j, k, d, n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PSGridIndex(S->da, &ix));
+  for (d = 0; d < 3; d++) {
+    ns[d] = d < S->dim ? ix.os[d] - PS_PAD : 0;
+    nm[d] = ix.om[d];
+  }
+  if (!out || !C) PetscFunctionReturn(PETSC_SUCCESS);
+  for (k = ix.os[2]; k < ix.os[2] + ix.om[2]; k++)
+    for (j = ix.os[1]; j < ix.os[1] + ix.om[1]; j++)
+      for (i = ix.os[0]; i < ix.os[0] + ix.om[0]; i++, n++) {
+        const PetscInt o = Lidx(&ix, i, j, k);
+        out[n * (1 + S->dim)] = C->mcn[o];
+        for (d = 0; d < S->dim; d++) out[n * (1 + S->dim) + 1 + d] = C->P[S->dim * o + d];
+      }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

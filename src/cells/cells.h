@@ -1,0 +1,96 @@
+/*
+  cells.h - Eulerian cell materials (internal): the shock-physics host around
+  the markers, as in CTH.  See docs/cells.md for the method and its sources.
+
+  State.  Cells are the elements of the node DMDA; a rank owns the cells whose
+  lower corner node it owns (markers.c), and keeps them with a ghost layer of
+  PS_CELL_GHOST cells in its own array (exchanged by halo.c's PetscSF).  Per
+  cell and cell material k (the materials of `representation: cells` bodies,
+  deck order) a block of ms reals:
+      V_k  volume of material k in the cell (m^3; m^2 in 2D)
+      M_k  mass (kg)
+      E_k  internal energy M_k e_k (J)
+      Q_k  nq mass-weighted advected quantities: with strength, M_k s_ij
+           (deviator, stress components), M_k eps_p, M_k T
+  then per cell: the volume fraction of markers (from their volumes), their
+  compliance sum_p V_p / K_p, the artificial viscosity q (Pa).  Void is the volume not held by cell materials
+  or markers.  The cell materials' momentum lives on the nodes, P^C_i (a
+  staggered grid: thermodynamics in cells, velocity at nodes, like the
+  markers' grid; CTH, Benson 1992), so cells and markers share one nodal
+  velocity and one momentum solve.
+
+  Step (step.c): after the markers' P2G the cells add their nodal mass
+  m^C_i = sum_c M_c / 2^dim, momentum P^C_i and internal force
+  f_i = -sum_c sum_k V_k (sigma_k - q I) grad N_i(x_c) (one-point Q1) with a
+  viscous hourglass force; the grid update is shared; the cells' Lagrangian
+  phase then takes the new nodal velocity (P^C_i = m^C_i v_i), deforms each
+  cell as a box, shares the volume change among its materials (closure.c) and
+  updates their energy and stress; the remap (remap.c) carries the cell
+  materials and P^C back to the fixed grid, sweep by sweep.
+*/
+#ifndef PLYSHOCK_CELLS_H
+#define PLYSHOCK_CELLS_H
+
+#include "../step.h"
+
+#define PS_MAX_CELLMAT 8
+#define PS_CELL_GHOST  3 /* ghost cells: the nodal remap needs fluxes of cells one out, whose donors' Youngs normals reach one further */
+
+/* offsets in a material's block, and of the per-cell values after the blocks */
+enum { PS_CV = 0, PS_CM = 1, PS_CE = 2, PS_CQ = 3 };
+enum { PS_CX_AM = 0, PS_CX_CM = 1, PS_CX_Q = 2, PS_CX_V = 3, PS_CX_N = 4 }; /* markers' volume fraction and compliance sum V_p/K_p (m^3/Pa), q (Pa), the cell's volume during the remap (m^3) */
+
+typedef struct PSCells_ {
+  PetscInt  dim;
+  PetscInt  nmat;                 /* cell materials */
+  PetscInt  mat[PS_MAX_CELLMAT];  /* their material ids */
+  PetscInt  nq;                   /* advected quantities per material after E: 0, or ns + 2 */
+  PetscInt  ns;                   /* stress components (4 in 2D, 6 in 3D) */
+  PetscInt  ms;                   /* reals per material block: 3 + nq */
+  PetscInt  dof;                  /* reals per cell: nmat ms + PS_CX_N */
+  PetscInt  nc[3];                /* cells per direction */
+  PetscInt  cs[3], ce[3];         /* owned cells [cs, ce) */
+  PetscInt  gs[3], gm[3];         /* ghosted cell box: corner and size */
+  PetscInt  ncl;                  /* cells in the ghosted box */
+  PetscReal *u;                   /* the ghosted cell array, ncl x dof */
+  PetscReal *un;                  /* scratch of the same size (a sweep's new state) */
+  PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
+  DM        dac;                  /* cells without ghosts, dof reals (output, checkpoint) */
+  PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
+  PetscReal *Pn;                  /* scratch of the same size */
+  PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
+  PetscReal *vh;                  /* the step's time-centred nodal velocity (v^n + v^{n+1})/2, dim per node: moves the cells' faces */
+  PetscSF   sfp;                  /* ghost exchange of P (halo.c) */
+  PetscInt  nnl;                  /* local nodes */
+  PetscReal Vc;                   /* cell volume (m^3; m^2 in 2D) */
+  PetscReal hourglass;            /* hourglass viscosity coefficient (-) */
+  PetscInt  sweep0;               /* first sweep direction of the next remap (alternates) */
+  PetscReal remap_heat;           /* this rank: kinetic energy the remap put into internal energy (J) */
+  PetscReal coupling_work;        /* this rank: work of fitting cell materials around the markers (J) */
+  PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
+  PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */
+} PSCells;
+
+/* index of ghosted cell (i, j, k) (global cell indices) */
+static inline PetscInt PSCellIdx(const PSCells *C, PetscInt i, PetscInt j, PetscInt k)
+{
+  return ((k - C->gs[2]) * C->gm[1] + (j - C->gs[1])) * C->gm[0] + (i - C->gs[0]);
+}
+
+PETSC_INTERN PetscErrorCode PSCellsCreate(PSSolver *, const PSMaterial *);
+PETSC_INTERN PetscErrorCode PSCellsDestroy(PSCells **);
+PETSC_INTERN PetscErrorCode PSCellsInsert(PSSolver *);
+PETSC_INTERN PetscErrorCode PSCellsToGrid(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSCellsLagrange(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSCellsRemap(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *);
+PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
+PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);
+PETSC_INTERN PetscErrorCode PSCellsExchange(PSCells *);
+PETSC_INTERN PetscErrorCode PSCellsNodalMass(PSSolver *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSCellsPressure(const PSSolver *, PetscInt k, const PetscReal *blk, PetscReal *p, PetscReal *c);
+PETSC_INTERN PetscErrorCode PSCellsWrite(PSSolver *, PetscViewer, const char *const material_names[]);
+PETSC_INTERN PetscErrorCode PSCellsCheckpoint(PSSolver *, PetscViewer);
+PETSC_INTERN PetscErrorCode PSCellsRestart(PSSolver *, PetscViewer);
+
+#endif

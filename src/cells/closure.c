@@ -1,0 +1,162 @@
+/*
+  closure.c - mixed cells (docs/cells.md, "Mixed cells").
+
+  A cell holds cell materials k (V_k), the markers' volume V_M and void
+  V_0 = V_c - sum V_k - V_M.  Its box changes volume by dV in the Lagrangian
+  phase; PSCellsShareVolume decides each material's dV_k in two parts:
+
+  1. the change itself.  Void closes first (a compression is taken by void
+     while there is any); the rest is shared in proportion to the
+     compliances chi_k = V_k / K_k, K_k = rho_k c_k^2 (and the markers'
+     sum_p V_p / K_p), so every participant sees the same pressure increment:
+     the isentropic, linearised form of pressure equilibrium.
+  2. pressure relaxation toward a common pressure (after Tipton; Shashkov,
+     "Closure models for multidimensional cells in ALE methods", 2008): with
+     the pressures p_k' after part 1, the equilibrium of the linearised
+     equations of state is p* = sum chi_k p_k' / sum chi_k (p* = 0 with void,
+     whose compliance is infinite: a gas expands into void), reached by
+     dV_k += chi_k (p_k' - p*).  The step is limited so no material loses
+     more than half its volume and void never goes negative; a gas next to
+     copper (K 1e5 against 1e11 Pa, density ratio 1e4) then relaxes over a few
+     steps instead of crushing the gas in one.
+  The markers take no part in the relaxation: their pressure is their own.
+
+  PSCellsFitMarkers runs after the markers move: their volume in each cell
+  (each marker in the cell holding its centroid, and its compliance) sets
+  V_M; where the cell materials no longer fit beside it they are compressed,
+  in proportion to their compliances, along their isentropes; that work, done
+  by the markers' displacement, is booked as coupling_work (history.csv) so
+  the energy balance stays honest.
+*/
+#include "closure.h"
+
+/* bulk compliance chi = V / K (m^3/Pa) of a material block and its pressure */
+static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal *blk, PetscReal *chi, PetscReal *p)
+{
+  PetscReal c, rho;
+
+  PetscFunctionBeginUser;
+  PetscCall(PSCellsPressure(S, m, blk, p, &c));
+  rho  = blk[PS_CM] / blk[PS_CV];
+  *chi = blk[PS_CV] / (rho * PetscMax(c * c, 1e-6)); /* a cold gas at p = 0: very compliant, still finite */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscReal dV, PetscReal dVk[])
+{
+  const PSCells  *C  = S->cells;
+  const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
+  PetscReal       chi[PS_MAX_CELLMAT], p[PS_MAX_CELLMAT], Vm = 0.0, sumchi = 0.0, V0, rest = dV, theta = 1.0, pstar = 0.0, sumd = 0.0;
+  PetscInt        m, n = 0;
+
+  PetscFunctionBeginUser;
+  for (m = 0; m < C->nmat; m++) {
+    const PetscReal *blk = &u[m * C->ms];
+    dVk[m] = chi[m] = p[m] = 0.0;
+    if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
+    PetscCall(Compliance(S, m, blk, &chi[m], &p[m]));
+    Vm += blk[PS_CV];
+    sumchi += chi[m];
+    n++;
+  }
+  if (!n) PetscFunctionReturn(PETSC_SUCCESS);
+  V0 = PetscMax(C->Vc - Vm - VM, 0.0);
+  /* 1. void takes a compression first; the rest by compliance */
+  if (dV < 0.0) {
+    const PetscReal take = PetscMin(-dV, V0);
+    rest += take;
+    V0 -= take;
+  }
+  for (m = 0; m < C->nmat; m++) dVk[m] = sumchi > 0.0 ? rest * chi[m] / (sumchi + chiM) : 0.0;
+  /* 2. relaxation toward p* (p* = 0 with void) */
+  if (V0 <= 1e-12 * C->Vc) {
+    if (n < 2) PetscFunctionReturn(PETSC_SUCCESS);
+    for (m = 0; m < C->nmat; m++)
+      if (chi[m] > 0.0) pstar += chi[m] * (p[m] - dVk[m] / chi[m]);
+    pstar /= sumchi;
+  }
+  for (m = 0; m < C->nmat; m++) {
+    const PetscReal *blk = &u[m * C->ms];
+    PetscReal        d;
+    if (chi[m] <= 0.0) continue;
+    d = chi[m] * (p[m] - dVk[m] / chi[m] - pstar);
+    /* no material loses more than half its volume in one relaxation */
+    if (blk[PS_CV] + dVk[m] + theta * d < 0.5 * (blk[PS_CV] + dVk[m])) theta = PetscMin(theta, 0.5 * (blk[PS_CV] + dVk[m]) / -d);
+    sumd += d;
+  }
+  /* void cannot go negative */
+  if (sumd > 0.0 && V0 < theta * sumd) theta = V0 / sumd;
+  for (m = 0; m < C->nmat; m++)
+    if (chi[m] > 0.0) dVk[m] += theta * chi[m] * (p[m] - dVk[m] / chi[m] - pstar);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* markers' volume and compliance into their cells (owned: a marker's cell is
+   its rank's), then the cell materials fitted beside them */
+PetscErrorCode PSCellsFitMarkers(PSSolver *S)
+{
+  PSCells        *C   = S->cells;
+  const PetscInt  dim = S->dim;
+  PetscInt        n, p, d, i, j, k, m, *mat;
+  PetscReal      *x, *vol;
+  PSIndex         ix;
+
+  PetscFunctionBeginUser;
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        PetscReal *x_ = &C->u[C->dof * PSCellIdx(C, i, j, k) + C->nmat * C->ms];
+        x_[PS_CX_AM] = x_[PS_CX_CM] = 0.0;
+      }
+  PetscCall(DMSwarmGetLocalSize(S->sw, &n));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+  for (p = 0; p < n; p++) {
+    PetscInt   c[3] = {0, 0, 0};
+    PetscReal *x_;
+    for (d = 0; d < dim; d++) c[d] = PetscMin(PetscMax((PetscInt)PetscFloorReal((x[p * dim + d] - S->scene->lower[d]) * S->ih[d]), C->cs[d]), C->ce[d] - 1);
+    x_ = &C->u[C->dof * PSCellIdx(C, c[0], c[1], c[2]) + C->nmat * C->ms];
+    x_[PS_CX_AM] += vol[p] / C->Vc;
+    x_[PS_CX_CM] += vol[p] / C->Kmat[mat[p]];
+  }
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+  /* fit: the cell materials compressed where they overflow the room beside the markers */
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        PetscReal  Vm = 0.0, room = C->Vc * PetscMax(1.0 - u[C->nmat * C->ms + PS_CX_AM], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
+        for (m = 0; m < C->nmat; m++) {
+          chi[m] = 0.0;
+          if (u[m * C->ms + PS_CM] <= 0.0) continue;
+          Vm += u[m * C->ms + PS_CV];
+          PetscCall(Compliance(S, m, &u[m * C->ms], &chi[m], &pk[m]));
+          sumchi += chi[m];
+        }
+        over = Vm - room;
+        if (over <= 1e-12 * C->Vc || sumchi <= 0.0) continue;
+        /* no material is squeezed below a tenth of its volume in one step: the rest waits for the next */
+        for (m = 0; m < C->nmat; m++)
+          if (chi[m] > 0.0) over = PetscMin(over, 0.9 * u[m * C->ms + PS_CV] * sumchi / chi[m]);
+        for (m = 0; m < C->nmat; m++) {
+          const PSMaterial *M   = &S->mat[C->mat[m]];
+          PetscReal        *blk = &u[m * C->ms];
+          PetscReal         dVm, V1, A, B, c2, e1, p1;
+          if (chi[m] <= 0.0) continue;
+          dVm = -over * chi[m] / sumchi;
+          V1  = blk[PS_CV] + dVm;
+          PetscCall(M->eos_fn(M, M->rho0 * V1 / blk[PS_CM], pk[m], dVm / blk[PS_CV], &A, &B, &c2));
+          PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, dVm / blk[PS_CM], pk[m], A, B, 0.0, &e1, &p1);
+          C->coupling_work += blk[PS_CM] * e1 - blk[PS_CE];
+          blk[PS_CE] = blk[PS_CM] * e1;
+          blk[PS_CV] = V1;
+        }
+      }
+  PetscCall(PSCellsExchange(C));
+  PetscCall(PSGridIndex(S->da, &ix));
+  PetscCall(PSCellsNodalMass(S, &ix));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,358 @@
+/*
+  lagrange.c - the cells' Lagrangian phase (cells.h; docs/cells.md).
+
+  PSCellsToGrid (with the markers' P2G, event PSCellsP2G): each cell with
+  material adds to its 2^dim corners the nodal mass M_c / 2^dim and the force
+      f_i = -sum_k V_k (sigma_k - q I) . grad N_i(x_c),
+  grad N_i at the cell centre of the bilinear (trilinear) element: one-point
+  quadrature, exact for the constant stress of a cell.  One-point quadrature
+  leaves the element's hourglass modes (the corner patterns +-1 of xy, and in
+  3D yz, xz, xyz; Flanagan & Belytschko, IJNME 17, 1981) without stiffness;
+  a viscous hourglass force f_i = -kappa rho c (V/h) sum_m G_m(i) g_m / 2^dim,
+  g_m = sum_j G_m(j) v_j, damps them (kappa = 0.1), and its work heats the
+  cell.  The owned nodes add the cell materials' momentum P^C_i.
+
+  PSCellsLagrange (after the grid update, event PSCellsLagrange): the cell
+  materials take the new nodal velocity, P^C_i = m^C_i v_i; each cell's
+  velocity gradient at its centre gives its volume change dV = V_c dt tr L
+  (the volume its faces sweep, each moving with the mean velocity of its
+  corners: exactly what the remap then moves back), which closure.c shares
+  among the materials, the markers' part and void; each material's energy follows
+  e1 = e0 - ((p0 + p1)/2 + q) dV_k / M_k + deviatoric work (implicit in p1 for
+  p = A + B e, like the markers), its deviator the Jaumann rate with a J2
+  return (Wilkins 1964), as CTH carries strength in cells.
+*/
+#include "cells.h"
+#include "closure.h"
+
+static PetscLogEvent EV_C2G = 0, EV_Lag = 0;
+
+/* corner a (x fastest, 0..2^dim - 1) of a cell: offsets and signs */
+static inline void Corner(PetscInt dim, PetscInt a, PetscInt o[3], PetscReal s[3])
+{
+  PetscInt d;
+  for (d = 0; d < 3; d++) {
+    o[d] = d < dim ? (a >> d) & 1 : 0;
+    s[d] = o[d] ? 1.0 : -1.0;
+  }
+}
+
+/* hourglass patterns of a cell's corners: 2D xy; 3D xy, yz, xz, xyz */
+static inline PetscInt Hourglass(PetscInt dim, const PetscReal s[3], PetscReal G[4])
+{
+  G[0] = s[0] * s[1];
+  if (dim == 2) return 1;
+  G[1] = s[1] * s[2];
+  G[2] = s[0] * s[2];
+  G[3] = s[0] * s[1] * s[2];
+  return 4;
+}
+
+/* mixture values of a cell: material mass and volume, largest sound speed */
+static PetscErrorCode CellMix(const PSSolver *S, const PetscReal *u, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
+{
+  const PSCells *C = S->cells;
+  PetscInt       m;
+
+  PetscFunctionBeginUser;
+  *Mc = *Vm = *cmax = 0.0;
+  for (m = 0; m < C->nmat; m++) {
+    const PetscReal *blk = &u[m * C->ms];
+    PetscReal        p, c;
+    if (blk[PS_CM] <= 0.0) continue;
+    *Mc += blk[PS_CM];
+    *Vm += blk[PS_CV];
+    PetscCall(PSCellsPressure(S, m, blk, &p, &c));
+    *cmax = PetscMax(*cmax, c);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PSCells        *C = S->cells;
+  const PetscInt  dim = S->dim, nco = 1 << dim, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
+  const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
+  PetscReal      *g = S->g;
+  PetscInt        i, j, k, m, a, d, e;
+
+  PetscFunctionBeginUser;
+  if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
+  PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, vc[8][3], G[4], hg[4][3] = {{0}}, rhoc, kap;
+        PetscInt         o[8], nh = 0;
+        PetscCall(CellMix(S, u, &Mc, &Vm, &cmax));
+        if (Mc <= 0.0) continue;
+        /* sum_k V_k sigma_k - q V_m I */
+        for (m = 0; m < C->nmat; m++) {
+          const PetscReal *blk = &u[m * C->ms];
+          PetscReal        p, c;
+          if (blk[PS_CM] <= 0.0) continue;
+          PetscCall(PSCellsPressure(S, m, blk, &p, &c));
+          for (d = 0; d < 3; d++) sig[d][d] -= blk[PS_CV] * p;
+          if (C->nq) {
+            const PetscReal *sm = &blk[PS_CQ], im = 1.0 / blk[PS_CM];
+            sig[0][0] += blk[PS_CV] * sm[0] * im;
+            sig[1][1] += blk[PS_CV] * sm[1] * im;
+            sig[2][2] += blk[PS_CV] * sm[2] * im;
+            if (dim == 3) {
+              sig[1][2] = sig[2][1] = sig[1][2] + blk[PS_CV] * sm[3] * im;
+              sig[0][2] = sig[2][0] = sig[0][2] + blk[PS_CV] * sm[4] * im;
+              sig[0][1] = sig[1][0] = sig[0][1] + blk[PS_CV] * sm[5] * im;
+            } else sig[0][1] = sig[1][0] = sig[0][1] + blk[PS_CV] * sm[3] * im;
+          }
+        }
+        for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
+        /* corners: node indices and the cell materials' nodal velocities */
+        for (a = 0; a < nco; a++) {
+          PetscInt  off[3];
+          PetscReal s[3];
+          Corner(dim, a, off, s);
+          o[a] = Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0);
+          for (d = 0; d < dim; d++) vc[a][d] = C->mcn[o[a]] > 0.0 ? C->P[dim * o[a] + d] / C->mcn[o[a]] : 0.0;
+          nh = Hourglass(dim, s, G);
+          for (e = 0; e < nh; e++)
+            for (d = 0; d < dim; d++) hg[e][d] += G[e] * vc[a][d];
+        }
+        rhoc = Mc / Vm * cmax;
+        kap  = C->hourglass * rhoc * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
+        for (a = 0; a < nco; a++) {
+          PetscInt  off[3];
+          PetscReal s[3], gN[3], *gn = &g[dof * o[a]];
+          Corner(dim, a, off, s);
+          nh = Hourglass(dim, s, G);
+          /* grad N_i at the centre: s_d / h_d times 1/2 for each other direction */
+          for (d = 0; d < 3; d++) gN[d] = d < dim ? s[d] / S->h[d] / (dim == 3 ? 4.0 : 2.0) : 0.0;
+          gn[0] += Mc / nco;
+          for (d = 0; d < dim; d++) {
+            PetscReal fd = 0.0;
+            for (e = 0; e < dim; e++) fd -= sig[d][e] * gN[e];
+            for (e = 0; e < nh; e++) fd -= kap * G[e] * hg[e][d];
+            gn[fo + d] += fs * fd;
+          }
+        }
+      }
+  /* the cell materials' momentum on the owned nodes (the ghosts' would count twice) */
+  PSGridAddOwned(S, ix, C->P, dim, g + 1, dof);
+  PetscCall(PetscLogEventEnd(EV_C2G, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* L at the centre of cell (i, j, k) from the nodal velocities v (stride vs
+   from v0) of its corners; grad N as in PSCellsToGrid */
+static inline void CellGradient(const PSSolver *S, const PSIndex *ix, PetscInt i, PetscInt j, PetscInt k, const PetscReal *v0, PetscInt vs, PetscReal L[3][3], PetscReal vmax[1])
+{
+  const PetscInt dim = S->dim, nco = 1 << dim;
+  PetscInt       a, d, e;
+  for (d = 0; d < 3; d++)
+    for (e = 0; e < 3; e++) L[d][e] = 0.0;
+  *vmax = 0.0;
+  for (a = 0; a < nco; a++) {
+    PetscInt         off[3];
+    PetscReal        s[3], v2 = 0.0;
+    const PetscReal *v;
+    Corner(dim, a, off, s);
+    v = &v0[vs * Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0)];
+    for (d = 0; d < dim; d++) {
+      v2 += v[d] * v[d];
+      for (e = 0; e < dim; e++) L[d][e] += v[d] * s[e] / S->h[e] / (dim == 3 ? 4.0 : 2.0);
+    }
+    *vmax = PetscMax(*vmax, PetscSqrtReal(v2));
+  }
+}
+
+/* one material's deviator over the step: Jaumann rate 2G D' + W s - s W, J2
+   return against its flow stress; returns the deviatoric work per volume */
+static PetscErrorCode Deviator(const PSMaterial *M, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal rho, PetscReal *sq, PetscReal Mk, PetscReal *w)
+{
+  PetscReal s0[3][3], s[3][3], D[3][3], W[3][3], trD, s2 = 0.0, DD = 0.0;
+  PetscReal im = 1.0 / Mk, ep = sq[dim == 3 ? 6 : 4] * im, T = sq[dim == 3 ? 7 : 5] * im;
+  PetscInt  a, b, c;
+
+  PetscFunctionBeginUser;
+  /* unpack s = M s / M (stored components xx, yy, zz, [yz, xz,] xy) */
+  for (a = 0; a < 3; a++)
+    for (b = 0; b < 3; b++) s0[a][b] = 0.0;
+  s0[0][0] = sq[0] * im;
+  s0[1][1] = sq[1] * im;
+  s0[2][2] = sq[2] * im;
+  if (dim == 3) {
+    s0[1][2] = s0[2][1] = sq[3] * im;
+    s0[0][2] = s0[2][0] = sq[4] * im;
+    s0[0][1] = s0[1][0] = sq[5] * im;
+  } else s0[0][1] = s0[1][0] = sq[3] * im;
+  trD = L[0][0] + L[1][1] + L[2][2];
+  for (a = 0; a < 3; a++)
+    for (b = 0; b < 3; b++) {
+      D[a][b] = 0.5 * (L[a][b] + L[b][a]) - (a == b ? trD / 3.0 : 0.0);
+      W[a][b] = 0.5 * (L[a][b] - L[b][a]);
+    }
+  for (a = 0; a < 3; a++)
+    for (b = 0; b < 3; b++) {
+      PetscReal r = 2.0 * M->G * D[a][b];
+      for (c = 0; c < 3; c++) r += W[a][c] * s0[c][b] - s0[a][c] * W[c][b];
+      s[a][b] = s0[a][b] + dt * r;
+      s2 += s[a][b] * s[a][b];
+      DD += D[a][b] * D[a][b];
+    }
+  if (M->strength_fn) {
+    const PetscReal seq = PetscSqrtReal(1.5 * s2);
+    PetscReal       Y;
+    PetscCall(M->strength_fn(M, ep, PetscSqrtReal(2.0 / 3.0 * DD), T, &Y));
+    if (seq > Y) {
+      const PetscReal dep = (seq - Y) / (3.0 * M->G);
+      for (a = 0; a < 3; a++)
+        for (b = 0; b < 3; b++) s[a][b] *= Y / seq;
+      ep += dep;
+      if (M->cv > 0.0) T += M->chi * Y * dep / (rho * M->cv);
+    }
+  }
+  /* trapezoidal deviatoric work per unit volume */
+  *w = 0.0;
+  for (a = 0; a < 3; a++)
+    for (b = 0; b < 3; b++) *w += 0.5 * (s0[a][b] + s[a][b]) * D[a][b] * dt;
+  sq[0] = Mk * s[0][0];
+  sq[1] = Mk * s[1][1];
+  sq[2] = Mk * s[2][2];
+  if (dim == 3) {
+    sq[3] = Mk * s[1][2];
+    sq[4] = Mk * s[0][2];
+    sq[5] = Mk * s[0][1];
+  } else sq[3] = Mk * s[0][1];
+  sq[dim == 3 ? 6 : 4] = Mk * ep;
+  sq[dim == 3 ? 7 : 5] = Mk * T;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PSCells        *C = S->cells;
+  const PetscInt  dim = S->dim, dof = PSGridDof(S);
+  const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
+  PetscReal       hm = 0.0, smax = 0.0;
+  PetscInt        i, j, k, m, d, o;
+
+  PetscFunctionBeginUser;
+  if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
+  PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
+  for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
+  /* the cell materials take the new nodal velocity (every local node: the
+     remap reads ghost nodes too); their faces move with the time-centred
+     velocity v^{n+1/2} = (v^n + v^{n+1})/2, with which the pressure's work
+     -p dV equals the work of the nodal forces (a compatible update, Caramana
+     et al. 1998: the Lagrangian phase then conserves total energy) */
+  for (k = ix->gs[2]; k < ix->gs[2] + ix->gm[2]; k++)
+    for (j = ix->gs[1]; j < ix->gs[1] + ix->gm[1]; j++)
+      for (i = ix->gs[0]; i < ix->gs[0] + ix->gm[0]; i++) {
+        const PetscInt ip[3] = {i - PS_PAD, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
+        o = Lidx(ix, i, j, k);
+        for (d = 0; d < dim; d++) {
+          const PetscReal vo = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : v[dof * o + d];
+          C->vh[dim * o + d] = 0.5 * (vo + v[dof * o + d]);
+          C->P[dim * o + d]  = C->mcn[o] * v[dof * o + d];
+        }
+        PSNodeBC(S, ip, &C->vh[dim * o]); /* walls hold the faces on them */
+      }
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        PetscReal  L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], hgw = 0.0;
+        CellGradient(S, ix, i, j, k, C->vh, dim, L, &vmax);
+        /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
+           each moving with the mean velocity of its corners: the remap moves
+           exactly this back) and its share among materials, markers, void */
+        trD = L[0][0] + L[1][1] + L[2][2];
+        dV  = C->Vc * dt * trD;
+        u[C->nmat * C->ms + PS_CX_V] = C->Vc + dV;
+        for (m = 0; m < C->nmat; m++) {
+          Mc += u[m * C->ms + PS_CM];
+          Vm += u[m * C->ms + PS_CV];
+        }
+        if (Mc <= 0.0) continue;
+        PetscCall(PSCellsShareVolume(S, u, dV, dVk));
+        /* artificial viscosity of the cell (compression only), for this step's
+           energy and the next step's force */
+        for (m = 0; m < C->nmat; m++) {
+          PetscReal p, c;
+          PetscCall(PSCellsPressure(S, m, &u[m * C->ms], &p, &c));
+          cmax = PetscMax(cmax, c);
+        }
+        rho                        = Mc / Vm;
+        q                          = PSViscosity(rho, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
+        u[C->nmat * C->ms + PS_CX_Q] = q;
+        /* hourglass heating: the work of this step's hourglass force */
+        {
+          const PetscInt nco = 1 << dim;
+          PetscReal      hg[4][3] = {{0}}, G[4], kap = C->hourglass * rho * cmax * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
+          PetscInt       a, e, nh = 0;
+          for (a = 0; a < nco; a++) {
+            PetscInt  off[3], oo;
+            PetscReal s[3];
+            Corner(dim, a, off, s);
+            oo = Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0);
+            nh = Hourglass(dim, s, G);
+            for (e = 0; e < nh; e++)
+              for (d = 0; d < dim; d++) hg[e][d] += G[e] * v[dof * oo + d];
+          }
+          for (e = 0; e < nh; e++)
+            for (d = 0; d < dim; d++) hgw += kap * hg[e][d] * hg[e][d] * dt;
+        }
+        /* each material: energy, pressure, deviator */
+        for (m = 0; m < C->nmat; m++) {
+          const PSMaterial *M   = &S->mat[C->mat[m]];
+          PetscReal        *blk = &u[m * C->ms];
+          PetscReal         J, A, B, c2, p0, c0, e1, p1, wdev = 0.0, V1;
+          if (blk[PS_CM] <= 0.0) continue;
+          PetscCall(PSCellsPressure(S, m, blk, &p0, &c0));
+          V1 = blk[PS_CV] + dVk[m];
+          PetscCheck(V1 > 0.0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "cell (%" PetscInt_FMT ", %" PetscInt_FMT ", %" PetscInt_FMT ") material %" PetscInt_FMT " would reach volume %g <= 0 at step %" PetscInt_FMT ", t = %g s: lower run.cfl or refine the grid",
+                     i, j, k, C->mat[m], (double)V1, S->step + 1, (double)S->t);
+          if (C->nq && M->G > 0.0) PetscCall(Deviator(M, dim, L, dt, blk[PS_CM] / V1, &blk[PS_CQ], blk[PS_CM], &wdev));
+          J = M->rho0 * V1 / blk[PS_CM];
+          PetscCall(M->eos_fn(M, J, p0, dVk[m] / blk[PS_CV], &A, &B, &c2));
+          /* e1 = e0 + w - a ((p0 + p1)/2 + q), a = dV_k / M_k; hourglass heat by mass share */
+          PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM] + hgw / Mc, wdev * V1 / blk[PS_CM], dVk[m] / blk[PS_CM], p0, A, B, q, &e1, &p1);
+          blk[PS_CV] = V1;
+          blk[PS_CE] = blk[PS_CM] * e1;
+        }
+        smax = PetscMax(smax, cmax + vmax + (q > 0.0 ? q / (rho * PetscMax(cmax, 1e-300)) : 0.0));
+      }
+  C->smax = smax;
+  PetscCall(PetscLogEventEnd(EV_Lag, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* c + |v| over the cells (the first dt, restarts) */
+PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
+{
+  PSCells  *C = S->cells;
+  PSIndex   ix;
+  PetscInt  i, j, k, a, d;
+  PetscReal smax = 0.0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PSGridIndex(S->da, &ix));
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        PetscReal Mc, Vm, cmax, vmax = 0.0;
+        PetscCall(CellMix(S, &C->u[C->dof * PSCellIdx(C, i, j, k)], &Mc, &Vm, &cmax));
+        if (Mc <= 0.0) continue;
+        for (a = 0; a < (1 << S->dim); a++) {
+          PetscInt  off[3], o;
+          PetscReal s[3], v2 = 0.0;
+          Corner(S->dim, a, off, s);
+          o = Lidx(&ix, i + PS_PAD + off[0], j + PS_PAD + off[1], S->dim == 3 ? k + PS_PAD + off[2] : 0);
+          for (d = 0; d < S->dim; d++) v2 += C->mcn[o] > 0.0 ? PetscSqr(C->P[S->dim * o + d] / C->mcn[o]) : 0.0;
+          vmax = PetscMax(vmax, PetscSqrtReal(v2));
+        }
+        smax = PetscMax(smax, cmax + vmax);
+      }
+  C->smax = smax;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}

@@ -1,0 +1,353 @@
+/*
+  remap.c - the cells' remap phase (event PSCellsRemap; docs/cells.md).
+
+  After the Lagrangian phase every cell holds its materials in a volume
+  V_c + dt V_c tr L (PS_CX_V): its faces moved by delta_f = dt <v_d>_f (the
+  mean velocity of the face's corners).  The remap moves the swept volumes
+  back across the fixed faces, direction by direction (CTH, McGlaun, Thompson
+  & Elrick 1990; the order alternates every step), so after the last sweep
+  every cell has volume V_c again.  For a face moving by delta > 0 the donor
+  is the cell behind it and the flux volume delta A is the slab of the donor
+  next to the face holding that share of the donor's volume:
+    materials   each material's part of the slab from the interface
+                reconstruction (plic.c: Youngs' normals, offsets for the volume
+                fractions, nested for several materials); the markers' part
+                and void are left behind (the markers move themselves; void is
+                the room no one holds);
+    mass        rho_k of the donor with a van Leer-limited slope where donor
+                and both neighbours along the sweep are pure in k (second
+                order in smooth single-material flow; van Leer 1977);
+    energy, advected strength state: per unit mass, limited the same way;
+    momentum    on the staggered nodes: each cell's mid-plane carries the dual
+                mass flux (F_lo + F_hi)/2 from its lower to its upper corner
+                nodes (shared among the 2^(dim-1) node columns), which keeps
+                the nodal mass m^C_i = sum_c M_c / 2^dim consistent with the
+                cells' (Benson 1992's "half-index shift"; Margolin & Shashkov
+                2004); the velocity carried is the upwind node's with a van
+                Leer slope.
+  Kinetic energy: remapping momentum conservatively loses kinetic energy (the
+  KE discrepancy, Benson 1992); per node the kinetic energy carried by the
+  same fluxes minus that of the remapped momentum goes into the internal
+  energy of the cells around it, each by its share of the node's mass
+  (DeBar's fix): total energy is conserved, and the amount is booked as
+  remap_heat.
+  Boundaries: a symmetry or fixed face has delta = 0; a free face lets
+  material out (mass, momentum, kinetic and internal energy booked as lost)
+  and lets void in.
+*/
+#include "cells.h"
+
+static PetscLogEvent EV_Remap = 0;
+
+static inline PetscReal VanLeer(PetscReal a, PetscReal b)
+{
+  return a * b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
+}
+
+/* Volumes of each material (vol[0..nmat-1]) in the slab of the donor that
+   holds the share w of its volume next to its face (side -1 lower, +1 upper)
+   along d.  The interface reconstruction of plic.c goes here; until then
+   each material's share of the slab is its volume fraction (first order). */
+static void SlabVolumes(const PSCells *C, const PetscReal *u, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
+{
+  PetscInt m;
+  (void)d;
+  (void)side;
+  for (m = 0; m < C->nmat; m++) vol[m] = w * u[m * C->ms + PS_CV];
+}
+
+/* local index of physical node n */
+static inline PetscInt Node(const PSIndex *ix, PetscInt dim, const PetscInt n[3])
+{
+  return Lidx(ix, n[0] + PS_PAD, n[1] + PS_PAD, dim == 3 ? n[2] + PS_PAD : 0);
+}
+
+static inline PetscBool OwnedNode(const PSIndex *ix, PetscInt dim, const PetscInt n[3])
+{
+  PetscInt e;
+  for (e = 0; e < dim; e++)
+    if (n[e] + PS_PAD < ix->os[e] || n[e] + PS_PAD >= ix->os[e] + ix->om[e]) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* the fluxes through one face (signed, + along d); F = per material (dV, dM,
+   dE, dQ...) then the face's volume delta A and the total mass flux */
+static void FaceFlux(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscInt d, const PetscInt i[3], PetscReal *F)
+{
+  const PSCells  *C = S->cells;
+  const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, t1 = dim == 3 ? (d + 1) % 3 : 1 - d, t2 = dim == 3 ? (d + 2) % 3 : 2;
+  const PetscReal A = C->Vc / S->h[d], *v = C->vh;
+  const PetscReal *ud;
+  PetscReal        delta = 0.0, vol[PS_MAX_CELLMAT], w, side;
+  PetscInt         n[3], a, b, c[3], m, q;
+
+  /* the face's displacement: the mean of its corners' velocities along d */
+  for (a = 0; a < (dim == 3 ? 2 : 1); a++)
+    for (b = 0; b < 2; b++) {
+      n[d]  = i[d];
+      n[t1] = i[t1] + b;
+      n[t2] = dim == 3 ? i[t2] + a : 0;
+      delta += v[dim * Node(ix, dim, n) + d];
+    }
+  delta *= dt / (dim == 3 ? 4.0 : 2.0);
+  F[nm * ms]     = delta * A;
+  F[nm * ms + 1] = 0.0;
+  if (delta == 0.0) return;
+  /* the donor: the cell behind the face; none outside the domain (void enters) */
+  c[0] = i[0];
+  c[1] = i[1];
+  c[2] = i[2];
+  if (delta > 0.0) c[d] -= 1;
+  side = delta > 0.0 ? 1.0 : -1.0;
+  if (c[d] < 0 || c[d] >= C->nc[d]) return;
+  ud = &C->u[dof * PSCellIdx(C, c[0], c[1], c[2])];
+  w  = PetscMin(PetscAbsReal(delta) * A / ud[nm * ms + PS_CX_V], 1.0);
+  SlabVolumes(C, ud, d, (PetscInt)side, w, vol);
+  for (m = 0; m < nm; m++) {
+    const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL};
+    PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
+    PetscBool        pure;
+    if (vol[m] <= 0.0 || blk[PS_CM] <= 0.0) continue;
+    rho = blk[PS_CM] / blk[PS_CV];
+    /* van Leer slopes where the donor and its neighbours along d are pure in m */
+    pure = blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
+    for (a = 0; a < 2 && pure; a++) {
+      PetscInt c2[3] = {c[0], c[1], c[2]};
+      c2[d] += a ? 1 : -1;
+      if (c2[d] < C->gs[d] || c2[d] >= C->gs[d] + C->gm[d]) {
+        pure = PETSC_FALSE;
+        break;
+      }
+      nb[a] = &C->u[dof * PSCellIdx(C, c2[0], c2[1], c2[2])];
+      if (nb[a][m * ms + PS_CM] <= 0.0 || nb[a][m * ms + PS_CV] <= 0.999 * nb[a][nm * ms + PS_CX_V]) pure = PETSC_FALSE;
+    }
+    if (pure) {
+      const PetscReal r0 = nb[0][m * ms + PS_CM] / nb[0][m * ms + PS_CV], r1 = nb[1][m * ms + PS_CM] / nb[1][m * ms + PS_CV];
+      dM = PetscMin(PetscMax(vol[m] * (rho + off * VanLeer(rho - r0, r1 - rho)), 0.0), blk[PS_CM]);
+    } else dM = PetscMin(vol[m] * rho, blk[PS_CM]);
+    F[m * ms + PS_CV] = side * vol[m];
+    F[m * ms + PS_CM] = side * dM;
+    for (q = PS_CE; q < ms; q++) {
+      PetscReal s0 = blk[q] / blk[PS_CM];
+      if (pure) s0 += off * VanLeer(s0 - nb[0][m * ms + q] / nb[0][m * ms + PS_CM], nb[1][m * ms + q] / nb[1][m * ms + PS_CM] - s0);
+      F[m * ms + q] = side * dM * s0;
+    }
+    F[nm * ms + 1] += side * dM;
+  }
+}
+
+/* one sweep along d */
+static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PetscReal dt, PetscInt d)
+{
+  PSCells        *C = S->cells;
+  const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
+  const PetscInt  t1 = dim == 3 ? (d + 1) % 3 : 1 - d, t2 = dim == 3 ? (d + 2) % 3 : 2, ncol = dim == 3 ? 4 : 2; /* transverse directions */
+  PetscReal      *F, *K, *P = C->P, *Pn = C->Pn;
+  PetscInt        lo[3], hi[3], i[3], e, m, q, nf, a, b;
+
+  PetscFunctionBeginUser;
+  /* faces along d of the cells around the owned nodes, [cs - 1, ce) in every
+     direction (clipped to the domain), one more along d */
+  for (e = 0; e < 3; e++) {
+    lo[e] = e < dim ? PetscMax(C->cs[e] - 1, 0) : 0;
+    hi[e] = e < dim ? C->ce[e] : 1;
+  }
+  hi[d] += 1;
+  nf = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+  PetscCall(PetscCalloc2(nf * fs, &F, C->nnl, &K));
+#define FIDX(c0, c1, c2) ((((c2) - lo[2]) * (hi[1] - lo[1]) + ((c1) - lo[1])) * (hi[0] - lo[0]) + ((c0) - lo[0]))
+  for (i[2] = lo[2]; i[2] < hi[2]; i[2]++)
+    for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
+      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) FaceFlux(S, ix, dt, d, i, &F[fs * FIDX(i[0], i[1], i[2])]);
+
+  /* nodal momentum: each cell's mid-plane dual flux from its lower to its
+     upper corner nodes; free faces let the nodes' share out.  Velocities and
+     kinetic energies before the sweep. */
+  for (e = 0; e < C->nnl; e++) {
+    PetscReal p2 = 0.0;
+    for (q = 0; q < dim; q++) {
+      Pn[dim * e + q] = P[dim * e + q];
+      p2 += P[dim * e + q] * P[dim * e + q];
+    }
+    K[e] = C->mcn[e] > 0.0 ? 0.5 * p2 / C->mcn[e] : 0.0;
+  }
+  for (i[2] = lo[2]; i[2] < (dim == 3 ? hi[2] : 1); i[2]++)
+    for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
+      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) {
+        PetscInt up[3] = {i[0], i[1], i[2]};
+        PetscReal Flo, Fhi, phi, Mc = 0.0, nu;
+        if (i[d] >= hi[d] - 1) continue; /* the extra face index along d */
+        up[d] += 1;
+        Flo = F[fs * FIDX(i[0], i[1], i[2]) + fs - 1];
+        Fhi = F[fs * FIDX(up[0], up[1], up[2]) + fs - 1];
+        phi = 0.5 * (Flo + Fhi) / ncol;
+        /* the share of the upwind half cell that crosses the mid-plane: the
+           Courant number of the momentum's slope correction */
+        for (m = 0; m < nm; m++) Mc += C->u[dof * PSCellIdx(C, i[0], i[1], i[2]) + m * ms + PS_CM];
+        nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0;
+        for (a = 0; a < (dim == 3 ? 2 : 1); a++)
+          for (b = 0; b < 2; b++) {
+            PetscInt  nL[3], nU[3], oL, oU, o2, n2[3];
+            PetscReal vL[3] = {0, 0, 0}, vU[3] = {0, 0, 0}, vf[3], v2 = 0.0;
+            nL[d]  = i[d];
+            nL[t1] = i[t1] + b;
+            nL[t2] = dim == 3 ? i[t2] + a : 0;
+            for (e = 0; e < 3; e++) nU[e] = nL[e];
+            nU[d] += 1;
+            oL = Node(ix, dim, nL);
+            oU = Node(ix, dim, nU);
+            for (q = 0; q < dim; q++) {
+              if (C->mcn[oL] > 0.0) vL[q] = P[dim * oL + q] / C->mcn[oL];
+              if (C->mcn[oU] > 0.0) vU[q] = P[dim * oU + q] / C->mcn[oU];
+            }
+            /* the upwind node's velocity, with a van Leer slope toward the mid-plane */
+            for (e = 0; e < 3; e++) n2[e] = phi > 0.0 ? nL[e] : nU[e];
+            n2[d] += phi > 0.0 ? -1 : 1;
+            o2 = (n2[d] >= 0 && n2[d] <= C->nc[d]) ? Node(ix, dim, n2) : -1;
+            for (q = 0; q < dim; q++) {
+              const PetscReal vu = phi > 0.0 ? vL[q] : vU[q], vd = phi > 0.0 ? vU[q] : vL[q];
+              const PetscReal vb = (o2 >= 0 && C->mcn[o2] > 0.0) ? P[dim * o2 + q] / C->mcn[o2] : vu;
+              vf[q] = vu + 0.5 * (1.0 - nu) * VanLeer(vu - vb, vd - vu);
+              v2 += vf[q] * vf[q];
+            }
+            if (phi != 0.0) {
+              if (OwnedNode(ix, dim, nL)) {
+                for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
+                K[oL] -= phi * 0.5 * v2;
+              }
+              if (OwnedNode(ix, dim, nU)) {
+                for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
+                K[oU] += phi * 0.5 * v2;
+              }
+            }
+            /* free faces of the domain: outflow takes the boundary node's share */
+            if (i[d] == 0 && Flo < 0.0 && OwnedNode(ix, dim, nL)) {
+              const PetscReal out = -Flo / ncol;
+              PetscReal       k2 = 0.0;
+              for (q = 0; q < dim; q++) {
+                Pn[dim * oL + q] -= out * vL[q];
+                S->lost_local.p[q] += out * vL[q];
+                k2 += vL[q] * vL[q];
+              }
+              K[oL] -= 0.5 * out * k2;
+              S->lost_local.kinetic += 0.5 * out * k2;
+            }
+            if (up[d] == C->nc[d] && Fhi > 0.0 && OwnedNode(ix, dim, nU)) {
+              const PetscReal out = Fhi / ncol;
+              PetscReal       k2 = 0.0;
+              for (q = 0; q < dim; q++) {
+                Pn[dim * oU + q] -= out * vU[q];
+                S->lost_local.p[q] += out * vU[q];
+                k2 += vU[q] * vU[q];
+              }
+              K[oU] -= 0.5 * out * k2;
+              S->lost_local.kinetic += 0.5 * out * k2;
+            }
+          }
+      }
+
+  /* the owned cells: in through the lower face, out through the upper */
+  for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
+    for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
+      for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
+        PetscReal       *u = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])];
+        PetscInt         up[3] = {i[0], i[1], i[2]};
+        const PetscReal *fl, *fh;
+        up[d] += 1;
+        fl = &F[fs * FIDX(i[0], i[1], i[2])];
+        fh = &F[fs * FIDX(up[0], up[1], up[2])];
+        for (q = 0; q < nm * ms; q++) u[q] += fl[q] - fh[q];
+        u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
+        for (m = 0; m < nm; m++) {
+          /* round-off must not leave a negative amount */
+          if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= 0.0) {
+            S->lost_local.mass += u[m * ms + PS_CM]; /* a round-off residue, booked */
+            S->lost_local.internal += u[m * ms + PS_CE];
+            for (q = 0; q < ms; q++) u[m * ms + q] = 0.0;
+          }
+        }
+        /* outflow through free faces of the domain */
+        if (i[d] == 0 && fl[fs - 1] < 0.0)
+          for (m = 0; m < nm; m++) {
+            S->lost_local.mass -= fl[m * ms + PS_CM];
+            S->lost_local.internal -= fl[m * ms + PS_CE];
+          }
+        if (up[d] == C->nc[d] && fh[fs - 1] > 0.0)
+          for (m = 0; m < nm; m++) {
+            S->lost_local.mass += fh[m * ms + PS_CM];
+            S->lost_local.internal += fh[m * ms + PS_CE];
+          }
+      }
+#undef FIDX
+  /* new nodal momentum (the boundary conditions on the owned nodes: a wall
+     takes the momentum into it); the cells' new state to the ghosts; the
+     nodal masses */
+  for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
+    for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
+      for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
+        const PetscInt ip[3] = {i[0] - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
+        PSNodeBC(S, ip, &Pn[dim * Lidx(ix, i[0], i[1], i[2])]);
+      }
+  {
+    PetscReal *t = C->P;
+    C->P  = C->Pn;
+    C->Pn = t;
+  }
+  PetscCall(PSHaloBcast(C->sfp, C->P));
+  PetscCall(PSCellsExchange(C));
+  PetscCall(PSCellsNodalMass(S, ix));
+  /* kinetic energy carried minus that of the remapped momentum, d_i per
+     owned node, to the ghosts (in the first component of the scratch Pn);
+     then each owned cell takes from each corner the share M_c / (2^dim m_i)
+     of d_i, the share it has in the node's mass: the sum over cells is the
+     sum over nodes */
+  Pn = C->Pn; /* after the swap: the scratch */
+  PetscCall(PetscArrayzero(Pn, dim * C->nnl));
+  for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
+    for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
+      for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
+        const PetscInt o = Lidx(ix, i[0], i[1], i[2]);
+        PetscReal      p2 = 0.0;
+        if (C->mcn[o] <= 0.0) continue;
+        for (q = 0; q < dim; q++) p2 += C->P[dim * o + q] * C->P[dim * o + q];
+        Pn[dim * o] = K[o] - 0.5 * p2 / C->mcn[o];
+      }
+  PetscCall(PSHaloBcast(C->sfp, Pn));
+  for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
+    for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
+      for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
+        PetscReal *u = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])], Mc = 0.0, dE = 0.0;
+        PetscInt   c;
+        for (m = 0; m < nm; m++) Mc += u[m * ms + PS_CM];
+        if (Mc <= 0.0) continue;
+        for (c = 0; c < (1 << dim); c++) {
+          const PetscInt o = Lidx(ix, i[0] + PS_PAD + (c & 1), i[1] + PS_PAD + ((c >> 1) & 1), dim == 3 ? i[2] + PS_PAD + ((c >> 2) & 1) : 0);
+          if (C->mcn[o] > 0.0) dE += Pn[dim * o] * Mc / ((1 << dim) * C->mcn[o]);
+        }
+        for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM] / Mc;
+        C->remap_heat += dE;
+      }
+  PetscCall(PetscFree2(F, K));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PSCells *C = S->cells;
+  PetscInt s, d;
+
+  PetscFunctionBeginUser;
+  if (!EV_Remap) PetscCall(PetscLogEventRegister("PSCellsRemap", 0, &EV_Remap));
+  PetscCall(PetscLogEventBegin(EV_Remap, 0, 0, 0, 0));
+  /* ghosts of the Lagrangian state (volumes, energies) and momentum */
+  PetscCall(PSCellsExchange(C));
+  PetscCall(PSHaloBcast(C->sfp, C->P));
+  for (s = 0; s < S->dim; s++) {
+    d = C->sweep0 == 0 ? s : S->dim - 1 - s;
+    PetscCall(Sweep(S, ix, dt, d));
+  }
+  C->sweep0 = 1 - C->sweep0;
+  PetscCall(PSCellsExchange(C)); /* the heat of the last sweep */
+  PetscCall(PetscLogEventEnd(EV_Remap, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
