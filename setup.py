@@ -37,7 +37,8 @@ sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in (
     "transfer_musl.c", "transfer_apic.c", "stress.c", "migrate.c", "totals.c", "halo.c", "run.c", "checkpoint.c",
     "materials/registry.c", "materials/eos_mie_gruneisen.c", "materials/eos_hypoelastic.c",
     "materials/strength.c", "materials/failure_johnson_cook.c", "materials/failure_hashin.c",
-    "materials/update.c", "materials/update4.c", "materials/orthotropic.c", "materials/driver.c")]
+    "materials/update.c", "materials/update4.c", "materials/orthotropic.c", "materials/driver.c",
+    "cells/plic.c")]
 
 ext = Extension(
     "plyshock._core",
@@ -48,7 +49,7 @@ ext = Extension(
     libraries=["petsc_real", "hdf5", "mpi"],
     # built on the machine that runs it (scripts/setup), so -march=native is safe
     extra_compile_args=["-O3", "-march=native", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
-    depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/step.h", "src/shape.h", "src/materials.h"],
+    depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/step.h", "src/shape.h", "src/materials.h", "src/cells/plic.h"],
 )
 
 setup(
