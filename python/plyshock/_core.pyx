@@ -473,9 +473,10 @@ def drive(dict md, axes0, L, double dt, double h):
 
 # ===========================================================================
 # Eulerian cells: PLIC interface geometry (src/cells/plic.h).  Thin batch
-# wrappers for the tests and scripts/bench_plic.py: one C call per item, the
-# loop typed; arrays carry dim in their last axis (2 or 3).  Kept in one block
-# at the end of the file so merges stay simple.
+# wrappers for the tests and scripts/bench_plic.py, called directly (the
+# solver's C code calls plic.h itself, so core.py has nothing to add): one C
+# call per item, the loop typed; arrays carry dim in their last axis (2 or 3).
+# Kept in one block at the end of the file so merges stay simple.
 # ===========================================================================
 from libc.stddef cimport ptrdiff_t
 
