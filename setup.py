@@ -38,7 +38,8 @@ sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in (
     "materials/registry.c", "materials/eos_mie_gruneisen.c", "materials/eos_hypoelastic.c",
     "materials/strength.c", "materials/failure_johnson_cook.c", "materials/failure_hashin.c",
     "materials/update.c", "materials/update4.c", "materials/orthotropic.c", "materials/driver.c",
-    "materials/eos_ideal_gas.c", "cells/cells.c", "cells/lagrange.c", "cells/closure.c", "cells/remap.c")]
+    "materials/eos_ideal_gas.c", "cells/cells.c", "cells/lagrange.c", "cells/closure.c", "cells/remap.c",
+    "cells/plic.c")]
 
 ext = Extension(
     "plyshock._core",
@@ -50,7 +51,7 @@ ext = Extension(
     # built on the machine that runs it (scripts/setup), so -march=native is safe
     extra_compile_args=["-O3", "-march=native", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
     depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/step.h", "src/shape.h", "src/materials.h",
-             "src/cells/cells.h", "src/cells/closure.h"],
+             "src/cells/cells.h", "src/cells/closure.h", "src/cells/plic.h"],
 )
 
 setup(

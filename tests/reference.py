@@ -50,3 +50,29 @@ def oriented_halfspaces(origin, axes, lo, hi):
         e = np.asarray(e, float)
         A += [e, -e]; b += [h + e @ origin, -(l + e @ origin)]
     return np.array(A), np.array(b)
+
+
+def box_plane_fraction(n, d, h):
+    """Exact volume fraction of {x : n.x <= d} in the box [-h/2, h/2] (any dim),
+    in rational arithmetic (fractions.Fraction of the given floats, so no
+    round-off at all), returned as a float.  In unit-cell coordinates
+    s_i = x_i/h_i + 1/2 (reflected where n_i < 0) the set is {m.s <= a} with
+    m_i = |n_i| h_i > 0 and a = d + sum(m)/2; its volume is the inclusion-exclusion
+    sum over the cell's vertices v of (-1)^|v| (a - m.v)_+^k / (k! prod m)
+    (k = number of non-zero n_i; components that are zero drop out)."""
+    import itertools
+    import math
+    from fractions import Fraction
+    n = [Fraction(float(x)) for x in n]
+    h = [Fraction(float(x)) for x in h]
+    m = [abs(ni) * hi for ni, hi in zip(n, h) if ni != 0]
+    a = Fraction(float(d)) + sum(m) / 2
+    k = len(m)
+    if k == 0:
+        return 1.0 if d >= 0 else 0.0
+    total = Fraction(0)
+    for v in itertools.product((0, 1), repeat=k):
+        t = a - sum(mi for mi, vi in zip(m, v) if vi)
+        if t > 0:
+            total += (-1) ** sum(v) * t ** k
+    return float(total / (math.factorial(k) * math.prod(m)))

@@ -540,3 +540,195 @@ def drive(dict md, axes0, L, double dt, double h):
     if n > 0:
         CHK(PSMaterialDrive(&M, &a0[0], n, &Lh[0], dt, h, &vs[0, 0, 0], &va[0, 0, 0], &vd[0, 0], &vp[0, 0]))
     return dict(stress=sig[:n], axes=ax[:n], damage=dmg[:n], pressure=pe[:n, 0], energy=pe[:n, 1], J=pe[:n, 2])
+
+
+# ===========================================================================
+# Eulerian cells: PLIC interface geometry (src/cells/plic.h).  Thin batch
+# wrappers for the tests and scripts/bench_plic.py, called directly (the
+# solver's C code calls plic.h itself, so core.py has nothing to add): one C
+# call per item, the loop typed; arrays carry dim in their last axis (2 or 3).
+# Kept in one block at the end of the file so merges stay simple.
+# ===========================================================================
+from libc.stddef cimport ptrdiff_t
+
+cdef extern from "cells/plic.h":
+    enum: PS_PLIC_MAXMAT
+    ctypedef struct PSPlicCell:
+        int dim
+        int nmat
+        double h[3]
+        double n[7][3]
+        double d[7]
+    int PSPlicYoungsNormal(int, const double *, ptrdiff_t, ptrdiff_t, ptrdiff_t, const double *, double *)
+    double PSPlicVolume(int, const double *, double, const double *)
+    double PSPlicOffset(int, const double *, double, const double *)
+    # n is const double[][3] in C; void * converts to it implicitly
+    int PSPlicReconstruct(int, const double *, int, const double *, const void *, PSPlicCell *)
+    int PSPlicSlabVolumes(const PSPlicCell *, int, int, double, double *)
+
+PLIC_MAXMAT = PS_PLIC_MAXMAT
+
+
+def _plic_rows(x, N, dim):
+    """x broadcast to a C-contiguous (N, dim) float array."""
+    return np.array(np.broadcast_to(np.asarray(x, dtype=float), (N, dim)), order="C")
+
+
+def plic_youngs(a, h):
+    """Youngs' unit normals (out of the material) at every interior cell of a
+    field of volume fractions a[ix, iy(, iz)] (2D or 3D, at least 3 cells a
+    side, any strides), cell sizes h (m).  Returns (n (nx-2, ny-2[, nz-2], 3),
+    flat (same shape without the 3)): flat marks flat blocks, where n is the
+    fallback (1, 0, 0)."""
+    arr = np.asarray(a, dtype=float)
+    cdef int dim = arr.ndim
+    if dim not in (2, 3) or any(s < 3 for s in arr.shape):
+        raise ValueError("a must be 2D or 3D with at least 3 cells a side")
+    cdef double hh[3]
+    cdef double[:, :] v2
+    cdef double[:, :, :] v3
+    cdef double[:, ::1] vn
+    cdef signed char[::1] vf
+    cdef Py_ssize_t i, j, k, m = 0, sx, sy, sz
+    hv = np.zeros(3)
+    hv[:dim] = np.asarray(h, dtype=float)[:dim]
+    for i in range(3):
+        hh[i] = hv[i]
+    inner = tuple(s - 2 for s in arr.shape)
+    out = np.zeros((int(np.prod(inner)), 3))
+    flat = np.zeros(out.shape[0], dtype=np.int8)
+    vn, vf = out, flat
+    if dim == 2:
+        v2 = arr
+        sx, sy = v2.strides[0] // 8, v2.strides[1] // 8
+        for i in range(1, v2.shape[0] - 1):
+            for j in range(1, v2.shape[1] - 1):
+                vf[m] = PSPlicYoungsNormal(2, &v2[i, j], sx, sy, 0, hh, &vn[m, 0])
+                m += 1
+    else:
+        v3 = arr
+        sx, sy, sz = v3.strides[0] // 8, v3.strides[1] // 8, v3.strides[2] // 8
+        for i in range(1, v3.shape[0] - 1):
+            for j in range(1, v3.shape[1] - 1):
+                for k in range(1, v3.shape[2] - 1):
+                    vf[m] = PSPlicYoungsNormal(3, &v3[i, j, k], sx, sy, sz, hh, &vn[m, 0])
+                    m += 1
+    return out.reshape(inner + (3,)), flat.reshape(inner).astype(bool)
+
+
+def plic_offset(n, alpha, h):
+    """Offsets d (N,) with |{x in the cell : n.x <= d}| = alpha |cell|; n (N, dim),
+    alpha (N,), h (dim,) or (N, dim) in m; the cell centred at 0."""
+    nn = np.atleast_2d(np.asarray(n, dtype=float))
+    cdef Py_ssize_t N = nn.shape[0], i
+    cdef int dim = nn.shape[1], j
+    cdef double[:, ::1] vn = _plic_rows(nn, N, dim)
+    cdef double[:, ::1] vh = _plic_rows(h, N, dim)
+    cdef double[::1] va = np.array(np.broadcast_to(np.asarray(alpha, dtype=float), (N,)))
+    out = np.empty(N)
+    cdef double[::1] vo = out
+    cdef double n3[3]
+    cdef double h3[3]
+    for i in range(N):
+        n3[2] = 0.0
+        h3[2] = 0.0
+        for j in range(dim):
+            n3[j] = vn[i, j]
+            h3[j] = vh[i, j]
+        vo[i] = PSPlicOffset(dim, n3, va[i], h3)
+    return out
+
+
+def plic_volume(n, d, h):
+    """Volumes (N,) of {x in the cell : n.x <= d} (m^3; m^2 in 2D); n (N, dim),
+    d (N,), h (dim,) or (N, dim)."""
+    nn = np.atleast_2d(np.asarray(n, dtype=float))
+    cdef Py_ssize_t N = nn.shape[0], i
+    cdef int dim = nn.shape[1], j
+    cdef double[:, ::1] vn = _plic_rows(nn, N, dim)
+    cdef double[:, ::1] vh = _plic_rows(h, N, dim)
+    cdef double[::1] vd = np.array(np.broadcast_to(np.asarray(d, dtype=float), (N,)))
+    out = np.empty(N)
+    cdef double[::1] vo = out
+    cdef double n3[3]
+    cdef double h3[3]
+    for i in range(N):
+        n3[2] = 0.0
+        h3[2] = 0.0
+        for j in range(dim):
+            n3[j] = vn[i, j]
+            h3[j] = vh[i, j]
+        vo[i] = PSPlicVolume(dim, n3, vd[i], h3)
+    return out
+
+
+def plic_reconstruct(alpha, n, h):
+    """Nested dissection of N cells: alpha (N, K) volume fractions in dissection
+    order, n (N, K-1, dim) normals out of each material, h (dim,) or (N, dim).
+    Returns the offsets d (N, K-1)."""
+    al = np.array(np.atleast_2d(np.asarray(alpha, dtype=float)), order="C")
+    cdef Py_ssize_t N = al.shape[0], i
+    cdef int K = al.shape[1], dim, j, k
+    if K < 1 or K > PS_PLIC_MAXMAT:
+        raise ValueError(f"need 1..{PS_PLIC_MAXMAT} materials, not {K}")
+    nn = np.asarray(n, dtype=float).reshape(N, K - 1, -1) if K > 1 else None
+    dim = nn.shape[2] if K > 1 else np.asarray(h).shape[-1]
+    if dim not in (2, 3):
+        raise ValueError("dim must be 2 or 3")
+    cdef double[:, ::1] va = al
+    cdef double[:, ::1] vn = np.array(nn.reshape(N, -1), order="C") if K > 1 else np.zeros((N, 1))
+    cdef double[:, ::1] vh = _plic_rows(h, N, dim)
+    out = np.zeros((N, max(K - 1, 1)))
+    cdef double[:, ::1] vo = out
+    cdef PSPlicCell c
+    cdef double n3[7][3]
+    cdef double h3[3]
+    for i in range(N):
+        h3[2] = 0.0
+        for j in range(dim):
+            h3[j] = vh[i, j]
+        for k in range(K - 1):
+            n3[k][2] = 0.0
+            for j in range(dim):
+                n3[k][j] = vn[i, k * dim + j]
+        if PSPlicReconstruct(dim, h3, K, &va[i, 0], n3, &c):
+            raise RuntimeError(f"PSPlicReconstruct failed on item {i}")
+        for k in range(K - 1):
+            vo[i, k] = c.d[k]
+    return out[:, :K - 1]
+
+
+def plic_slab(n, d, h, int axis, int side, w):
+    """Volume of each material (N, K) in the slab within w (N,) of the face
+    (axis, side = -1|+1) of N reconstructed cells: n (N, K-1, dim), d (N, K-1),
+    h (dim,) or (N, dim)."""
+    dd = np.array(np.atleast_2d(np.asarray(d, dtype=float)), order="C")
+    cdef Py_ssize_t N = dd.shape[0], i
+    cdef int K = dd.shape[1] + 1, dim, j, k
+    if K > PS_PLIC_MAXMAT:
+        raise ValueError(f"need 1..{PS_PLIC_MAXMAT} materials, not {K}")
+    nn = np.asarray(n, dtype=float).reshape(N, K - 1, -1) if K > 1 else None
+    dim = nn.shape[2] if K > 1 else np.asarray(h).shape[-1]
+    if dim not in (2, 3):
+        raise ValueError("dim must be 2 or 3")
+    cdef double[:, ::1] vd = dd if K > 1 else np.zeros((N, 1))
+    cdef double[:, ::1] vn = np.array(nn.reshape(N, -1), order="C") if K > 1 else np.zeros((N, 1))
+    cdef double[:, ::1] vh = _plic_rows(h, N, dim)
+    cdef double[::1] vw = np.array(np.broadcast_to(np.asarray(w, dtype=float), (N,)))
+    out = np.empty((N, K))
+    cdef double[:, ::1] vo = out
+    cdef PSPlicCell c
+    c.dim = dim
+    c.nmat = K
+    for i in range(N):
+        c.h[2] = 0.0
+        for j in range(dim):
+            c.h[j] = vh[i, j]
+        for k in range(K - 1):
+            c.n[k][2] = 0.0
+            for j in range(dim):
+                c.n[k][j] = vn[i, k * dim + j]
+            c.d[k] = vd[i, k]
+        if PSPlicSlabVolumes(&c, axis, side, vw[i], &vo[i, 0]):
+            raise ValueError(f"PSPlicSlabVolumes: bad input on item {i} (axis {axis}, side {side})")
+    return out
