@@ -48,6 +48,7 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
   const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
   PetscReal       chi[PS_MAX_CELLMAT], p[PS_MAX_CELLMAT], Vm = 0.0, sumchi = 0.0, V0, rest = dV, theta = 1.0, pstar = 0.0, sumd = 0.0;
   PetscInt        m, n = 0;
+  PetscBool       hasvoid;
 
   PetscFunctionBeginUser;
   for (m = 0; m < C->nmat; m++) {
@@ -69,7 +70,8 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
   }
   for (m = 0; m < C->nmat; m++) dVk[m] = sumchi > 0.0 ? rest * chi[m] / (sumchi + chiM) : 0.0;
   /* 2. relaxation toward p* (p* = 0 with void) */
-  if (V0 <= 1e-12 * C->Vc) {
+  hasvoid = V0 > 1e-12 * C->Vc ? PETSC_TRUE : PETSC_FALSE;
+  if (!hasvoid) {
     if (n < 2) PetscFunctionReturn(PETSC_SUCCESS);
     for (m = 0; m < C->nmat; m++)
       if (chi[m] > 0.0) pstar += chi[m] * (p[m] - dVk[m] / chi[m]);
@@ -84,8 +86,8 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
     if (blk[PS_CV] + dVk[m] + theta * d < 0.5 * (blk[PS_CV] + dVk[m])) theta = PetscMin(theta, 0.5 * (blk[PS_CV] + dVk[m]) / -d);
     sumd += d;
   }
-  /* void cannot go negative */
-  if (sumd > 0.0 && V0 < theta * sumd) theta = V0 / sumd;
+  /* void cannot go negative (without void the shifts sum to zero) */
+  if (hasvoid && sumd > 0.0 && V0 < theta * sumd) theta = V0 / sumd;
   for (m = 0; m < C->nmat; m++)
     if (chi[m] > 0.0) dVk[m] += theta * chi[m] * (p[m] - dVk[m] / chi[m] - pstar);
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -36,6 +36,7 @@
   and lets void in.
 */
 #include "cells.h"
+#include "plic.h"
 
 static PetscLogEvent EV_Remap = 0;
 
@@ -44,16 +45,95 @@ static inline PetscReal VanLeer(PetscReal a, PetscReal b)
   return a * b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
 }
 
-/* Volumes of each material (vol[0..nmat-1]) in the slab of the donor that
-   holds the share w of its volume next to its face (side -1 lower, +1 upper)
-   along d.  The interface reconstruction of plic.c goes here; until then
-   each material's share of the slab is its volume fraction (first order). */
-static void SlabVolumes(const PSCells *C, const PetscReal *u, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
+/* The participants of the interface reconstruction, in dissection order:
+   the markers (solid bodies first), the cell materials, void last.  Their
+   cumulative volume fractions A_k = sum_{j <= k} alpha_j (of each cell's
+   current volume) in a box one cell wider than the ghosted cells on every
+   side (copies of the nearest cell outside the domain), so Youngs' normal of
+   A_k is material k's in layered cells (plic.h) and every donor has its
+   3x3(x3) block. */
+typedef struct {
+  PetscInt   np;            /* participants: markers, nmat materials, void */
+  PetscInt   n[3], s[3];    /* box sizes and strides (doubles) */
+  PetscInt   o[3];          /* global cell index of the box's first cell */
+  PetscReal *A;             /* np cumulative fractions per cell */
+} PSFractions;
+
+static PetscErrorCode FractionsBuild(const PSCells *C, PSFractions *fr)
 {
-  PetscInt m;
-  (void)d;
-  (void)side;
-  for (m = 0; m < C->nmat; m++) vol[m] = w * u[m * C->ms + PS_CV];
+  const PetscInt dim = C->dim, nm = C->nmat, ms = C->ms;
+  PetscInt       i, j, k, e, m, ntot = 1;
+
+  PetscFunctionBeginUser;
+  fr->np = nm + 2;
+  for (e = 0; e < 3; e++) {
+    fr->n[e] = e < dim ? C->gm[e] + 2 : 1;
+    fr->o[e] = e < dim ? C->gs[e] - 1 : 0;
+    ntot *= fr->n[e];
+  }
+  fr->s[0] = fr->np;
+  fr->s[1] = fr->np * fr->n[0];
+  fr->s[2] = fr->np * fr->n[0] * fr->n[1];
+  if (!fr->A) PetscCall(PetscMalloc1(ntot * fr->np, &fr->A));
+  for (k = 0; k < fr->n[2]; k++)
+    for (j = 0; j < fr->n[1]; j++)
+      for (i = 0; i < fr->n[0]; i++) {
+        /* the nearest cell of the ghosted box */
+        const PetscInt   g[3] = {PetscMin(PetscMax(i + fr->o[0], C->gs[0]), C->gs[0] + C->gm[0] - 1), PetscMin(PetscMax(j + fr->o[1], C->gs[1]), C->gs[1] + C->gm[1] - 1), dim == 3 ? PetscMin(PetscMax(k + fr->o[2], C->gs[2]), C->gs[2] + C->gm[2] - 1) : 0};
+        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, g[0], g[1], g[2])], V = u[nm * ms + PS_CX_V];
+        PetscReal       *a = &fr->A[i * fr->s[0] + j * fr->s[1] + k * fr->s[2]], acc;
+        acc  = PetscMin(u[nm * ms + PS_CX_AM] * C->Vc / V, 1.0);
+        a[0] = acc;
+        for (m = 0; m < nm; m++) {
+          acc += u[m * ms + PS_CV] / V;
+          a[1 + m] = PetscMin(acc, 1.0);
+        }
+        a[nm + 1] = 1.0;
+      }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Volumes of each cell material (vol[0..nmat-1]) in the slab of width w (m)
+   next to the donor's face (side -1 lower, +1 upper) along d.  The donor is
+   a box of the cell's transverse size and its current volume; its
+   participants are reconstructed by nested dissection (plic.c) with Youngs'
+   normals of the cumulative fractions; the markers' and void's part of the
+   slab stays.  A pure donor gives the whole slab to its one material. */
+static void SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscInt c[3], const PetscReal *u, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
+{
+  const PSCells  *C = S->cells;
+  const PetscInt  dim = S->dim, nm = C->nmat;
+  const PetscReal V = u[nm * C->ms + PS_CX_V], A = C->Vc / S->h[d];
+  const PetscReal *a = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (c[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (c[2] - fr->o[2]) * fr->s[2] : 0)];
+  PetscReal        alpha[PS_PLIC_MAXMAT], nrm[PS_PLIC_MAXMAT][3], pv[PS_PLIC_MAXMAT], h[3], prev = 0.0;
+  PetscInt         part[PS_PLIC_MAXMAT], np = 0, k, m;
+  PSPlicCell       cell;
+
+  for (m = 0; m < nm; m++) vol[m] = 0.0;
+  /* the participants present in the donor (fraction above round-off) */
+  for (k = 0; k < fr->np; k++) {
+    const PetscReal ak = a[k] - prev;
+    prev = a[k];
+    if (ak <= 1e-12) continue;
+    PetscCheckAbort(np < PS_PLIC_MAXMAT, PETSC_COMM_SELF, PETSC_ERR_SUP, "more than %d participants in a cell", PS_PLIC_MAXMAT);
+    part[np]  = k;
+    alpha[np] = ak;
+    np++;
+  }
+  if (np == 0) return;
+  if (np == 1) {
+    if (part[0] >= 1 && part[0] <= nm) vol[part[0] - 1] = w * A;
+    return;
+  }
+  for (k = 0; k < 3; k++) h[k] = k < dim ? S->h[k] : 1.0;
+  h[d] = V / A; /* the donor's current extent along the sweep */
+  for (k = 0; k + 1 < np; k++) PSPlicYoungsNormal(dim, a + part[k], fr->s[0], fr->s[1], fr->s[2], S->h, nrm[k]);
+  if (PSPlicReconstruct(dim, h, np, alpha, (const double(*)[3])nrm, &cell) || PSPlicSlabVolumes(&cell, d, side, w, pv)) {
+    /* a clipper overflow (never seen): the volume fractions' shares */
+    for (k = 0; k < np; k++) pv[k] = alpha[k] * w * A;
+  }
+  for (k = 0; k < np; k++)
+    if (part[k] >= 1 && part[k] <= nm) vol[part[k] - 1] = pv[k];
 }
 
 /* local index of physical node n */
@@ -72,7 +152,7 @@ static inline PetscBool OwnedNode(const PSIndex *ix, PetscInt dim, const PetscIn
 
 /* the fluxes through one face (signed, + along d); F = per material (dV, dM,
    dE, dQ...) then the face's volume delta A and the total mass flux */
-static void FaceFlux(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscInt d, const PetscInt i[3], PetscReal *F)
+static void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, PetscInt d, const PetscInt i[3], PetscReal *F)
 {
   const PSCells  *C = S->cells;
   const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, t1 = dim == 3 ? (d + 1) % 3 : 1 - d, t2 = dim == 3 ? (d + 2) % 3 : 2;
@@ -101,8 +181,8 @@ static void FaceFlux(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscIn
   side = delta > 0.0 ? 1.0 : -1.0;
   if (c[d] < 0 || c[d] >= C->nc[d]) return;
   ud = &C->u[dof * PSCellIdx(C, c[0], c[1], c[2])];
-  w  = PetscMin(PetscAbsReal(delta) * A / ud[nm * ms + PS_CX_V], 1.0);
-  SlabVolumes(C, ud, d, (PetscInt)side, w, vol);
+  w  = PetscMin(PetscAbsReal(delta) * A / ud[nm * ms + PS_CX_V], 1.0); /* the slab's share of the donor */
+  SlabVolumes(S, fr, c, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
   for (m = 0; m < nm; m++) {
     const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL};
     PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
@@ -137,7 +217,7 @@ static void FaceFlux(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscIn
 }
 
 /* one sweep along d */
-static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PetscReal dt, PetscInt d)
+static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d)
 {
   PSCells        *C = S->cells;
   const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
@@ -155,10 +235,11 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PetscReal dt, PetscI
   hi[d] += 1;
   nf = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
   PetscCall(PetscCalloc2(nf * fs, &F, C->nnl, &K));
+  PetscCall(FractionsBuild(C, fr));
 #define FIDX(c0, c1, c2) ((((c2) - lo[2]) * (hi[1] - lo[1]) + ((c1) - lo[1])) * (hi[0] - lo[0]) + ((c0) - lo[0]))
   for (i[2] = lo[2]; i[2] < hi[2]; i[2]++)
     for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
-      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) FaceFlux(S, ix, dt, d, i, &F[fs * FIDX(i[0], i[1], i[2])]);
+      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) FaceFlux(S, ix, fr, dt, d, i, &F[fs * FIDX(i[0], i[1], i[2])]);
 
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
      upper corner nodes; free faces let the nodes' share out.  Velocities and
@@ -333,10 +414,12 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PetscReal dt, PetscI
 
 PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
 {
-  PSCells *C = S->cells;
-  PetscInt s, d;
+  PSCells    *C = S->cells;
+  PetscInt    s, d;
+  PSFractions fr;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&fr, sizeof(fr)));
   if (!EV_Remap) PetscCall(PetscLogEventRegister("PSCellsRemap", 0, &EV_Remap));
   PetscCall(PetscLogEventBegin(EV_Remap, 0, 0, 0, 0));
   /* ghosts of the Lagrangian state (volumes, energies) and momentum */
@@ -344,9 +427,10 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscCall(PSHaloBcast(C->sfp, C->P));
   for (s = 0; s < S->dim; s++) {
     d = C->sweep0 == 0 ? s : S->dim - 1 - s;
-    PetscCall(Sweep(S, ix, dt, d));
+    PetscCall(Sweep(S, ix, &fr, dt, d));
   }
   C->sweep0 = 1 - C->sweep0;
+  PetscCall(PetscFree(fr.A));
   PetscCall(PSCellsExchange(C)); /* the heat of the last sweep */
   PetscCall(PetscLogEventEnd(EV_Remap, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
