@@ -132,18 +132,30 @@ def _table(scene, counts, masses=None):
 
 def _check(scene):
     from . import core
+    from .errors import DeckError
     cs = core.c_scene(scene)
     clipped = core.check_geometry(scene, cs)
+    # the grid's size and memory before the count, which takes as long as the grid is large
+    r = core.resources(scene, cs)
+    try:
+        core.check_resources(r, scene)
+    except DeckError:
+        _print0(f"memory: {core.describe_resources(r)} (estimate)")
+        raise
     counts, nbytes = core.count_markers(scene, cs)
     P = cs.maxply + 1
     d = {(b, p - 1): int(counts[b, p]) for b in range(counts.shape[0]) for p in range(P) if counts[b, p]}
     total = sum(d.values())
-    _print0(f"deck OK: dimension {scene.dimension}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
+    r = core.resources(scene, cs, markers=total)
+    _print0(f"deck {'OK' if r['grid_bytes'] + r['marker_bytes'] <= r['machine_bytes'] else 'too large'}: "
+            f"dimension {scene.dimension}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
             f"{len(scene.materials)} materials, {len(scene.bodies)} bodies (SI units)")
     for name, v in clipped.items():
         _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
     _print0(_table(scene, d))
     _print0(f"expected markers: {total}, {nbytes} bytes per marker, {total * nbytes / 2**20:.3f} MiB")
+    _print0(f"memory: {core.describe_resources(r)} (estimate)")
+    core.check_resources(r, scene)
     for w in core.damage_warnings(scene):
         _print0(f"warning: {w}")
     return 0

@@ -135,6 +135,77 @@ def check_geometry(scene, cs):
     return clipped
 
 
+# bytes per grid node: the DMDA vectors the solver keeps (global and ghosted
+# local of m, mv, f; of the re-projected v; one output vector; coordinates),
+# reals, plus about two indices of maps and halo (an estimate, not a count)
+def _grid_bytes_per_node(dim):
+    return 8 * (3 + 8 * dim) + 16
+
+
+# per marker besides its fields: the step's scratch (displacement, shape functions
+# PSShape of src/shape.h) and a quarter of spare swarm buffer
+def _marker_bytes(dim, field_bytes):
+    return int(1.25 * field_bytes) + 8 * dim + 16 + 2 * 3 * 4 * 8
+
+
+def machine_memory():
+    """This machine's physical memory (bytes)."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemTotal:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+
+
+def resources(scene, cs, markers=None, hosts=1, ranks=1):
+    """What a scene needs before anything is made: grid nodes, the entries of
+    the largest grid vector against PETSc's index size, and memory (bytes) for
+    the grid and the markers (markers: an exact count, else an estimate from
+    the bodies' volumes) against the memory of the machines (hosts of this
+    machine's size).  No PETSc object is made."""
+    from petsc4py import PETSc
+    g, dim = scene.grid, scene.dimension
+    nodes = int(np.prod([n + 1 + 2 * PAD for n in g.cells]))
+    cells = int(np.prod(g.cells))
+    estimated = markers is None
+    if markers is None:        # each body's volume in cells, times its sub-cells: a floor for the count
+        vcell = float(np.prod(g.h))
+        vgrid = float(np.prod(np.subtract(g.upper, g.lower)))
+        markers = round(sum(min(cs.body_volume(i), vgrid) / vcell * b.subdivision ** dim for i, b in enumerate(scene.bodies)))
+    per_marker = _marker_bytes(dim, cs.marker_bytes(None))
+    return dict(cells=cells, nodes=nodes, entries=nodes * (1 + 2 * dim), index_max=int(np.iinfo(PETSc.IntType).max),
+                index_bits=8 * np.dtype(PETSc.IntType).itemsize, markers=markers, markers_estimated=estimated,
+                grid_bytes=nodes * _grid_bytes_per_node(dim), marker_bytes=markers * per_marker,
+                machine_bytes=machine_memory() * hosts, hosts=hosts, ranks=ranks)
+
+
+def describe_resources(r):
+    mib = 2.0 ** 20
+    tot = r["grid_bytes"] + r["marker_bytes"]
+    where = "this machine's" if r["hosts"] == 1 else f"{r['hosts']} machines'"
+    return (f"about {tot / mib:.1f} MiB (grid of {r['nodes']} nodes {r['grid_bytes'] / mib:.1f} MiB, "
+            f"{'at least ' if r['markers_estimated'] else ''}{r['markers']} markers {r['marker_bytes'] / mib:.1f} MiB) "
+            f"of {where} {r['machine_bytes'] / mib:.0f} MiB")
+
+
+def check_resources(r, scene):
+    """DeckError (grid.cells) when the grid overflows PETSc's index or the
+    run would not fit in memory; r from resources()."""
+    cells = " x ".join(map(str, scene.grid.cells))
+    if r["entries"] > r["index_max"] or r["cells"] > r["index_max"]:
+        raise DeckError("grid.cells", f"{cells} = {r['cells']:.4g} cells: the grid vectors would hold {r['entries']:.4g} entries, "
+                        f"beyond PETSc's {r['index_bits']}-bit index limit {r['index_max']}; use fewer cells")
+    if r["markers"] / max(r["ranks"], 1) > r["index_max"]:
+        raise DeckError("grid.cells", f"{r['markers']:.4g} markers on {r['ranks']} rank(s) exceed PETSc's "
+                        f"{r['index_bits']}-bit index limit {r['index_max']} per rank; use fewer cells or more ranks")
+    if r["grid_bytes"] + r["marker_bytes"] > r["machine_bytes"]:
+        raise DeckError("grid.cells", f"{cells} cells need more memory than there is: {describe_resources(r)}; "
+                        f"use fewer cells or sub-cells, or more machines")
+
+
 def count_markers(scene, cs):
     """Markers per (body, ply+1) that insertion will make, counted serially, and
     bytes per marker; nothing is inserted and no PETSc object is made."""
@@ -162,6 +233,9 @@ def initialize(scene, cs=None, comm=None, restart=False):
         cs = c_scene(scene)
     clipped = check_geometry(scene, cs)
     comm = comm or PETSc.COMM_WORLD
+    from mpi4py import MPI
+    hosts = len(set(comm.tompi4py().allgather(MPI.Get_processor_name())))
+    check_resources(resources(scene, cs, hosts=hosts, ranks=comm.getSize()), scene)
     _core.initialize()
     g, dim = scene.grid, scene.dimension
     # nodes: cells + 1 plus PAD outside the domain on each side (shape functions

@@ -14,6 +14,10 @@ from .errors import DeckError, check_keys, number, vector
 from .materials import PRESETS, preset
 
 FACES = ("x-", "x+", "y-", "y+", "z-", "z+")
+# The fastest body a deck may set moving (m/s): above the fastest natural impacts
+# (meteoroids, up to about 72 km/s) and far above any gun; beyond it a time step
+# would shrink toward nothing (1e20 m/s) or the kinetic energy overflow (1e300).
+V_MAX = 1.0e5
 BOUNDARY_KINDS = ("free", "symmetry", "fixed")
 
 
@@ -406,6 +410,10 @@ class Scene:
         if not isinstance(b.clip, bool):
             raise DeckError(f"{path}.clip", f"must be true or false, got {b.clip!r}")
         b.velocity = vector(b.velocity if b.velocity is not None else [0.0] * dim, dim, f"{path}.velocity")
+        speed = float(np.sqrt(sum(v * v for v in b.velocity))) if all(abs(v) < 1e150 for v in b.velocity) else float("inf")
+        if speed > V_MAX:
+            raise DeckError(f"{path}.velocity", f"speed {speed:.6g} m/s is out of range; allowed |v| <= {V_MAX:g} m/s "
+                            f"(100 km/s, beyond the fastest natural impacts)")
         L = self.grid.upper[0] - self.grid.lower[0]
         k = b.kind
         if k == "laminate":
