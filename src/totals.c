@@ -1,6 +1,8 @@
 /*
   totals.c - the conserved totals over all ranks (mass, momentum, kinetic and
   internal energy) with the booked losses, for history.csv and the tests.
+  With no marker left the peak pressure is 0 (there is no material to carry
+  one), never the -DBL_MAX the maximum starts from.
 */
 #include "step.h"
 
@@ -52,5 +54,6 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
   T->lost_energy = glost[4];
   T->markers      = ng[0];
   T->lost_markers = ng[1];
+  if (!T->markers) T->max_pressure = 0.0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

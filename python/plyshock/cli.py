@@ -8,7 +8,9 @@
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
-Bad input exits with status 2 and a message naming the deck key.
+Bad input exits with status 2 and a message naming the deck key; so does a run
+stopped by a guard (a collapsing time step, an inverted marker) or a
+checkpoint that cannot be restarted from.
 """
 import argparse
 import os
@@ -24,6 +26,27 @@ def _rank():
 def _print0(*a):
     if _rank() == 0:
         print(*a, flush=True)
+
+
+PS_ERR_RUN = 256    # = PS_ERR_RUN in src/solver.h: a run-time guard every rank raises together
+
+
+def _petsc_error(e):
+    """A PETSc error from the C code as one `plyshock: error:` line, exit status 2.
+    A guard every rank raised together (PS_ERR_RUN) is reported once by rank 0;
+    any other error may have come from one rank alone while the others wait in
+    a collective call, so that rank reports it and aborts the run."""
+    from mpi4py import MPI
+    tb = getattr(e, "_traceback_", None) or []
+    code = getattr(e, "ierr", e.args[0] if e.args else -1)
+    msg = tb[-1].strip() if tb else f"PETSc error code {code}"
+    comm = MPI.COMM_WORLD
+    if code == PS_ERR_RUN or comm.size == 1:
+        if comm.rank == 0:
+            print(f"plyshock: error: {msg}", file=sys.stderr, flush=True)
+        return 2
+    print(f"plyshock: error: {msg} (rank {comm.rank}; stopping every rank)", file=sys.stderr, flush=True)
+    comm.Abort(2)
 
 
 def _parser():
@@ -116,6 +139,11 @@ def main(argv=None):
         if _rank() == 0:
             print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
         return 2
+    except Exception as e:
+        petsc = sys.modules.get("petsc4py.PETSc")
+        if petsc is not None and isinstance(e, petsc.Error):
+            return _petsc_error(e)
+        raise
 
 
 def _table(scene, counts, masses=None):
@@ -233,6 +261,8 @@ def _run(scene, text, outdir, restart=None):
     from petsc4py import PETSc
     from . import core
     core.run_options(scene)                 # run errors before any work
+    if restart:
+        core.verify_checkpoint(scene, restart)   # a damaged checkpoint too
     m = core.initialize(scene, restart=bool(restart))
     S = core.make_solver(m, restart)      # material and run errors before any step
     for w in core.damage_warnings(scene):

@@ -206,6 +206,43 @@ def check_resources(r, scene):
                         f"use fewer cells or sub-cells, or more machines")
 
 
+def verify_checkpoint(scene, path, cs=None):
+    """A checkpoint fit to restart this scene from, or DeckError(--restart) saying
+    what is wrong with it (missing, not HDF5, truncated, incomplete, damaged,
+    another grid or deck), the same on every rank, before any work."""
+    if not os.path.exists(path):
+        raise DeckError("--restart", f"checkpoint {path} does not exist")
+    if os.path.isdir(path):
+        raise DeckError("--restart", f"{path} is a directory; give the checkpoint file (OUTDIR/checkpoint.h5)")
+    msg = (cs or c_scene(scene)).verify_checkpoint(path)
+    if msg:
+        raise DeckError("--restart", f"checkpoint {path} {msg}")
+
+
+def resume_outputs(outdir, step, time):
+    """Before a restart into OUTDIR (rank 0): cut history.csv back to the rows
+    before the checkpoint's step, bodies.csv and gauges.csv to those before its
+    time, dropping a row a killed run left half written; the restarted run
+    appends from there."""
+    for name, col, limit in (("history.csv", 0, step), ("bodies.csv", 0, float(f"{time:.10e}")), ("gauges.csv", 0, float(f"{time:.10e}"))):
+        fn = os.path.join(outdir, name)
+        if not os.path.exists(fn):
+            continue
+        with open(fn, errors="replace") as f:
+            lines = f.read().split("\n")
+        keep = lines[:1]
+        ncol = len(lines[0].split(","))
+        for line in lines[1:]:
+            cells = line.split(",")
+            try:
+                if len(cells) == ncol and float(cells[col]) < limit:
+                    keep.append(line)
+            except ValueError:
+                pass
+        with open(fn, "w") as f:
+            f.write("\n".join(keep) + "\n")
+
+
 def count_markers(scene, cs):
     """Markers per (body, ply+1) that insertion will make, counted serially, and
     bytes per marker; nothing is inserted and no PETSc object is made."""
@@ -489,7 +526,8 @@ def run_to_c(run):
                 c_linear=av["c_linear"], c_quadratic=av["c_quadratic"], pic_fraction=run.pic_fraction,
                 dt_growth=run.dt_growth, mass_threshold=run.mass_threshold, max_steps=run.max_steps,
                 history_interval=run.history_interval, progress_interval=run.progress_interval, dt_max=run.dt_max,
-                fbar=run.fbar)
+                fbar=run.fbar, checkpoint_interval=run.checkpoint_interval,
+                checkpoint_wall_interval=run.checkpoint_wall_interval, dt_floor=run.dt_floor)
 
 
 def make_solver(m, restart=None):
@@ -505,8 +543,7 @@ def make_solver(m, restart=None):
     if scene.gauges and not restart:
         S.set_gauges(gauge_markers(m, [g["point"] for g in scene.gauges]))
     if restart:
-        if not os.path.exists(restart):
-            raise DeckError("--restart", f"checkpoint {restart} does not exist")
+        verify_checkpoint(scene, restart, m.cs)
         S.restart(restart)
         m.stats = {"markers": m.sw.getComm().tompi4py().allreduce(m.sw.getLocalSize())}
         m.bytes_per_marker = m.cs.marker_bytes(m.sw)
@@ -532,10 +569,19 @@ def run(m, outdir, deck_text, solver=None):
     from petsc4py import PETSc
     from . import __version__
     comm = m.sw.getComm()
+    err = None
     if comm.getRank() == 0:
-        os.makedirs(outdir, exist_ok=True)
-    comm.barrier()
+        try:
+            os.makedirs(outdir, exist_ok=True)
+        except OSError as e:
+            err = f"cannot make the output directory {outdir}: {e.strerror}"
+    err = comm.tompi4py().bcast(err, root=0)
+    if err:
+        raise DeckError("-o", err)
     S = solver or make_solver(m)
+    if S.restarted and comm.getRank() == 0:
+        resume_outputs(outdir, S.step_count, S.time)
+    comm.barrier()
     opts = " ".join(f"-{k} {v}".strip() for k, v in PETSc.Options().getAll().items())
     attrs = {"deck": deck_text, "code_version": __version__, "petsc_options": opts, "ranks": str(comm.getSize()),
              "command": " ".join(sys.argv), "dimension": str(m.scene.dimension), "run": repr(S.run_params)}

@@ -280,9 +280,13 @@ class Run:
     history_interval: int = 10
     progress_interval: int = 0
     fbar: bool = False                    # cell-averaged volumetric rate (Delta-F-bar; against locking in plastic flow)
+    checkpoint_interval: float = 0.0      # s of simulated time between checkpoints; 0 = at every output time
+    checkpoint_wall_interval: float = 0.0  # s of wall time between checkpoints; 0 = none
+    dt_floor: float = 1e-3                # stop when the time step falls below this share of the first one; 0 = never
 
     KEYS = ("t_end", "cfl", "shape", "transfer", "output_interval", "artificial_viscosity", "pic_fraction", "dt_growth",
-            "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval", "fbar")
+            "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval", "fbar",
+            "checkpoint_interval", "checkpoint_wall_interval", "dt_floor")
 
     def validate(self, path="run"):
         """The section's structure: known names and value types.  The values'
@@ -312,6 +316,9 @@ class Run:
         self.progress_interval = number(self.progress_interval, f"{path}.progress_interval", -2**31, 2**31 - 1, integer=True)
         if not isinstance(self.fbar, bool):
             raise DeckError(f"{path}.fbar", f"must be true or false, got {self.fbar!r}")
+        self.checkpoint_interval = number(self.checkpoint_interval, f"{path}.checkpoint_interval")
+        self.checkpoint_wall_interval = number(self.checkpoint_wall_interval, f"{path}.checkpoint_wall_interval")
+        self.dt_floor = number(self.dt_floor, f"{path}.dt_floor")
         return self
 
 
