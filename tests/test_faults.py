@@ -109,6 +109,9 @@ def test_a_collapsing_time_step_stops_the_run_naming_the_marker(tmpdir_mpi):
     # the floor's range is checked with the other run options
     rc, so, se = run_cli(["run", deck, "-o", os.path.join(tmpdir_mpi, "o3"), "-run_dt_floor", "1"])
     assert rc == 2 and "run.dt_floor: 1 is out of range; allowed [0, 1)" in se, se
+    # and an option PETSc cannot read is a named error of every rank, not an abort
+    rc, so, se = run_cli(["run", deck, "-o", os.path.join(tmpdir_mpi, "o3"), "-run_dt_floor", "abc"], ranks=2)
+    assert rc == 2 and clean(se) and se.count("plyshock: error: -run_<key>: Input string abc has no numeric value") == 1, se
 
 
 def test_a_run_the_step_counter_cannot_hold_is_refused_before_its_first_step(tmpdir_mpi):

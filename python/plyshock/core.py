@@ -70,7 +70,11 @@ def run_options(scene):
             raise DeckError(f"-run_{key}", f"must be one of {'|'.join(names)}, got {v!r}")
     if scene.run is None:
         raise DeckError("run", "a run needs a run: section with at least t_end (s)")
-    params, key, msg = _core.run_params(run_to_c(scene.run))
+    try:
+        params, key, msg = _core.run_params(run_to_c(scene.run))
+    except PETSc.Error as e:          # an option PETSc cannot read (-run_cfl abc): every rank reads it alike
+        tb = getattr(e, "_traceback_", None) or ["?"]
+        raise DeckError("-run_<key>", f"{tb[-1].strip()} (a -run_<key> option on the command line)") from None
     if key is not None:
         opt = "-run_lanes" if key == "-run_lanes" else "-run_" + key.split(".")[-1]
         raise DeckError(key, f"{msg} (the deck's {key} or the option {opt})" if key != "-run_lanes" else msg)
