@@ -3,6 +3,7 @@
     plyshock check SCENE.yaml                    validate; expected markers and memory
     plyshock init SCENE.yaml -o OUT.h5 [--png F] insert markers (under mpiexec or alone)
     plyshock run SCENE.yaml -o OUTDIR            insert and run to run.t_end (-run_<key> overrides)
+    plyshock run SCENE.yaml -o OUTDIR --restart OUTDIR/checkpoint.h5   resume a killed run
     plyshock verify [-o DIR] [--levels N]        error against run time (work-precision), CSV + PNG
     plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
@@ -63,7 +64,8 @@ def _parser():
     r = sub.add_parser("run", help="insert a scene and run it to run.t_end (explicit MPM); -run_<key> overrides the deck's run section")
     r.add_argument("deck")
     r.add_argument("-o", "--output", required=True, help="output directory")
-    r.add_argument("--restart", help="continue from a checkpoint.h5 written by an earlier run of the same deck")
+    r.add_argument("--restart", help="continue from a checkpoint.h5 written by an earlier run of the same deck (checked first); "
+                   "into that run's OUTDIR it resumes a killed run, appending to its .csv files")
     v = sub.add_parser("verify", help="error against run time: plate impact and elastic wave, every shape function, finer grids")
     v.add_argument("-o", "--output", default="out/verify", help="output directory (verify.csv, verify.png)")
     v.add_argument("--levels", type=int, default=3, help="grid levels from 100 um, halving (default 3)")
@@ -264,7 +266,7 @@ def _run(scene, text, outdir, restart=None):
     if restart:
         core.verify_checkpoint(scene, restart)   # a damaged checkpoint too
     m = core.initialize(scene, restart=bool(restart))
-    S = core.make_solver(m, restart)      # material and run errors before any step
+    S = core.make_solver(m, restart, verified=True)      # material and run errors before any step
     for w in core.damage_warnings(scene):
         _print0(f"warning: {w}")
     _print0(f"running {m.stats['markers']} markers on {PETSc.COMM_WORLD.getSize()} rank(s), {m.bytes_per_marker} bytes per marker; "

@@ -534,9 +534,10 @@ def run_to_c(run):
                 checkpoint_wall_interval=run.checkpoint_wall_interval, dt_floor=run.dt_floor)
 
 
-def make_solver(m, restart=None):
+def make_solver(m, restart=None, verified=False):
     """The C solver on initialised markers m (from initialize); reads -run_<key> options.
-    restart: a checkpoint.h5 to continue from (m from initialize(restart=True))."""
+    restart: a checkpoint.h5 to continue from (m from initialize(restart=True)),
+    checked first unless verified (by verify_checkpoint, before any work)."""
     from . import _core
     scene = m.scene
     params = run_options(scene)
@@ -547,7 +548,8 @@ def make_solver(m, restart=None):
     if scene.gauges and not restart:
         S.set_gauges(gauge_markers(m, [g["point"] for g in scene.gauges]))
     if restart:
-        verify_checkpoint(scene, restart, m.cs)
+        if not verified:
+            verify_checkpoint(scene, restart, m.cs)
         S.restart(restart)
         m.stats = {"markers": m.sw.getComm().tompi4py().allreduce(m.sw.getLocalSize())}
         m.bytes_per_marker = m.cs.marker_bytes(m.sw)
