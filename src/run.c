@@ -1,18 +1,35 @@
 /*
   run.c - the time loop: steps, outputs every output_interval, history rows,
-  per-body rows, progress on rank 0.  No Python runs inside the loop.
+  per-body rows, progress on rank 0, periodic checkpoints.  No Python runs
+  inside the loop.
 
   OUTDIR/markers_NNNNN.h5   markers (io.c schema + state), root attribute time
   OUTDIR/grid_NNNNN.h5      /grid/mass, /grid/velocity_x|y|z (natural DMDA order,
                             PS_PAD nodes outside the domain on each side)
   OUTDIR/history.csv        step, time, dt, markers, mass, px, py[, pz], kinetic,
                             internal, total (= kinetic + internal + lost_energy),
-                            lost_mass, lost_energy, max_pressure
+                            lost_mass, lost_energy, max_pressure (0 once no marker is left)
   OUTDIR/bodies.csv         time, body, mass, px, py[, pz], kinetic, vx, vy[, vz]
   OUTDIR/gauges.csv         time, gauge, marker id, present, position, velocity, pressure,
                             Cauchy stress (Pa, tension positive) of the marker each gauge follows
-  OUTDIR/checkpoint.h5      the end state, to continue with --restart (checkpoint.c)
+  OUTDIR/checkpoint.h5      the state to continue from with --restart (checkpoint.c):
+                            refreshed at every output time (run.checkpoint_interval > 0:
+                            every that much simulated time instead), every
+                            run.checkpoint_wall_interval seconds of wall time if set, and
+                            at the end.  Checkpoints never change the steps taken.
+
+  A restart continues the same output times and numbers (the schedule is in
+  the checkpoint) and writes no output for its first state; into the same
+  OUTDIR it appends to the .csv files (the front end first cuts them back to
+  the checkpoint's step), so a killed run resumed there ends with the files
+  of an uninterrupted one.
+
+  Guards: a run that would need more steps than the step counter holds stops
+  before its first step (run.t_end); the time step's floor is in timestep.c.
+  A run whose markers all leave the grid warns once and runs on, empty, to
+  t_end.
 */
+#include <stdio.h>
 #include <petscviewerhdf5.h>
 #include <petsctime.h>
 #include "step.h"
@@ -24,9 +41,13 @@ typedef struct {
   FILE              *hist, *bodies, *gauges;
   DM                 da1;  /* dof-1 grid for output */
   Vec                out1;
-  PetscInt           index;  /* next output number */
   PetscInt           hstep;  /* step of the last history row */
   PetscReal          t_last; /* time of the last output (s) */
+  char               ckpt[PETSC_MAX_PATH_LEN]; /* OUTDIR/checkpoint.h5 */
+  PetscInt           ckpt_step;     /* step of the last checkpoint (-1: none yet) */
+  PetscReal          t_next_ckpt;   /* next checkpoint time with run.checkpoint_interval (s) */
+  PetscLogDouble     ckpt_wall;     /* wall time of the last checkpoint (s, rank 0's clock) */
+  PetscBool          warned_empty;  /* the warning that no marker is left was given */
 } PSRunIO;
 
 static PetscErrorCode WriteGrid(PSSolver *S, PSRunIO *io, const char *fn)
@@ -61,11 +82,11 @@ static PetscErrorCode Output(PSSolver *S, PSRunIO *io)
   char fn[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/markers_%05" PetscInt_FMT ".h5", io->outdir, io->index));
+  PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/markers_%05" PetscInt_FMT ".h5", io->outdir, S->out.index));
   PetscCall(PSWriteMarkers(S->scene, S->sw, fn, S->t, io->nattr, io->attr_names, io->attr_values, io->body_names, io->material_names));
-  PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/grid_%05" PetscInt_FMT ".h5", io->outdir, io->index));
+  PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/grid_%05" PetscInt_FMT ".h5", io->outdir, S->out.index));
   PetscCall(WriteGrid(S, io, fn));
-  io->index++;
+  S->out.index++;
   io->t_last = S->t;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -84,6 +105,11 @@ static PetscErrorCode History(PSSolver *S, PSRunIO *io)
   io->hstep = S->step;
   PetscCall(PSSolverTotals(S, &T));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!T.markers && !io->warned_empty) {
+    io->warned_empty = PETSC_TRUE;
+    PetscCall(PetscPrintf(comm, "warning: no marker is left in the grid at t = %g s (step %" PetscInt_FMT "): %lld markers, %g kg%s and %g J left through free faces and are booked as lost (history.csv); the run goes on, empty, to t_end\n",
+                          (double)S->t, S->step, (long long)T.lost_markers, (double)T.lost_mass, dim == 2 ? "/m" : "", (double)T.lost_energy));
+  }
   if (!rank && io->hist) {
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, "%" PetscInt_FMT ",%.10e,%.6e,%lld,%.12e,%.12e,%.12e", S->step, (double)S->t, (double)S->dt, (long long)T.markers, (double)T.mass, (double)T.p[0], (double)T.p[1]));
     if (dim == 3) PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e", (double)T.p[2]));
@@ -162,6 +188,63 @@ static PetscErrorCode History(PSSolver *S, PSRunIO *io)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* a CSV file of rank 0: a fresh one with its header, or after a restart an
+   existing one appended to (the front end has cut it back to the checkpoint) */
+static PetscErrorCode OpenCSV(PSSolver *S, const char *outdir, const char *name, const char *header, FILE **fp)
+{
+  char      fn[PETSC_MAX_PATH_LEN];
+  PetscBool exists = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/%s", outdir, name));
+  if (S->restarted) PetscCall(PetscTestFile(fn, 'r', &exists));
+  PetscCall(PetscFOpen(PETSC_COMM_SELF, fn, exists ? "a" : "w", fp));
+  if (!exists) PetscCall(PetscFPrintf(PETSC_COMM_SELF, *fp, "%s", header));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode WriteCheckpoint(PSSolver *S, PSRunIO *io)
+{
+  PetscFunctionBeginUser;
+  /* the .csv rows so far are on disk before the checkpoint that a resumed run cuts them back to */
+  if (io->hist) (void)fflush(io->hist);
+  if (io->bodies) (void)fflush(io->bodies);
+  if (io->gauges) (void)fflush(io->gauges);
+  PetscCall(PSSolverCheckpoint(S, io->ckpt));
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)S->sw), "checkpoint: step %" PetscInt_FMT ", t = %.6e s in %s\n", S->step, (double)S->t, io->ckpt));
+  io->ckpt_step = S->step;
+  PetscCall(PetscTime(&io->ckpt_wall));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Is a checkpoint due after this step?  (output: an output was just written) */
+static PetscErrorCode CheckpointDue(PSSolver *S, PSRunIO *io, PetscBool output, PetscBool *due)
+{
+  const PetscReal ci = S->run.checkpoint_interval;
+
+  PetscFunctionBeginUser;
+  *due = (output && ci == 0) ? PETSC_TRUE : PETSC_FALSE;
+  if (ci > 0 && S->t >= io->t_next_ckpt * (1.0 - 1e-12)) {
+    *due = PETSC_TRUE;
+    while (io->t_next_ckpt <= S->t * (1.0 + 1e-12)) io->t_next_ckpt += ci;
+  }
+  if (S->run.checkpoint_wall_interval > 0) {
+    /* rank 0's clock decides for all: the ranks' clocks differ */
+    MPI_Comm       comm = PetscObjectComm((PetscObject)S->sw);
+    PetscMPIInt    rank;
+    PetscLogDouble now;
+    int            wall = 0;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    if (!rank) {
+      PetscCall(PetscTime(&now));
+      wall = now - io->ckpt_wall >= S->run.checkpoint_wall_interval;
+    }
+    PetscCallMPI(MPI_Bcast(&wall, 1, MPI_INT, 0, comm));
+    if (wall) *due = PETSC_TRUE;
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* Run from the current state to run.t_end (or max_steps). */
 PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[])
 {
@@ -169,9 +252,9 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
   PetscMPIInt    rank;
   MPI_Comm       comm = PetscObjectComm((PetscObject)S->sw);
   PetscLogDouble w0, wlast, now;
-  PetscReal      t_next_out, t_start = S->t;
-  PetscInt       dim = S->dim, step0 = S->step;
-  char           fn[PETSC_MAX_PATH_LEN];
+  PetscReal      t_start = S->t;
+  PetscInt       dim = S->dim, step0 = S->step, nout = 0;
+  char           head[256];
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&io, sizeof(io)));
@@ -181,39 +264,66 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
   io.attr_values = attr_values;
   io.body_names = body_names;
   io.material_names = material_names;
+  io.ckpt_step = -1;
+  S->body_names = body_names;
+  S->material_names = material_names;
+  PetscCall(PetscSNPrintf(io.ckpt, sizeof(io.ckpt), "%s/checkpoint.h5", outdir));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(DMDACreateCompatibleDMDA(S->da, 1, &io.da1));
   PetscCall(DMCreateGlobalVector(io.da1, &io.out1));
   if (!rank) {
-    PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/history.csv", outdir));
-    PetscCall(PetscFOpen(PETSC_COMM_SELF, fn, "w", &io.hist));
-    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io.hist, "step,time,dt,markers,mass,px,py%s,kinetic,internal,total,lost_mass,lost_energy,max_pressure\n", dim == 3 ? ",pz" : ""));
-    PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/bodies.csv", outdir));
-    PetscCall(PetscFOpen(PETSC_COMM_SELF, fn, "w", &io.bodies));
-    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io.bodies, "time,body,mass,px,py%s,kinetic,vx,vy%s\n", dim == 3 ? ",pz" : "", dim == 3 ? ",vz" : ""));
+    PetscCall(PetscSNPrintf(head, sizeof(head), "step,time,dt,markers,mass,px,py%s,kinetic,internal,total,lost_mass,lost_energy,max_pressure\n", dim == 3 ? ",pz" : ""));
+    PetscCall(OpenCSV(S, outdir, "history.csv", head, &io.hist));
+    PetscCall(PetscSNPrintf(head, sizeof(head), "time,body,mass,px,py%s,kinetic,vx,vy%s\n", dim == 3 ? ",pz" : "", dim == 3 ? ",vz" : ""));
+    PetscCall(OpenCSV(S, outdir, "bodies.csv", head, &io.bodies));
     if (S->ngauge) {
-      PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/gauges.csv", outdir));
-      PetscCall(PetscFOpen(PETSC_COMM_SELF, fn, "w", &io.gauges));
       /* present = 0 once the gauge's marker has left the domain */
-      PetscCall(PetscFPrintf(PETSC_COMM_SELF, io.gauges, "time,gauge,id,present,x,y%s,vx,vy%s,pressure,%s\n", dim == 3 ? ",z" : "", dim == 3 ? ",vz" : "",
-                             dim == 3 ? "sxx,syy,szz,syz,sxz,sxy" : "sxx,syy,szz,sxy"));
+      PetscCall(PetscSNPrintf(head, sizeof(head), "time,gauge,id,present,x,y%s,vx,vy%s,pressure,%s\n", dim == 3 ? ",z" : "", dim == 3 ? ",vz" : "", dim == 3 ? "sxx,syy,szz,syz,sxz,sxy" : "sxx,syy,szz,sxy"));
+      PetscCall(OpenCSV(S, outdir, "gauges.csv", head, &io.gauges));
     }
   }
   if (S->smax == 0.0) PetscCall(PSSolverMaxSpeed(S)); /* fresh start; a restart brings its own */
-  /* the initial state: the grid's local arrays are empty until the first step */
-  PetscCall(Output(S, &io));
+  /* the outputs' schedule: a restart keeps its checkpoint's, unless the interval changed */
+  if (!S->restarted || S->out.interval != S->run.output_interval || S->run.output_interval == 0 || !(S->out.t_next > S->t)) {
+    S->out.t_next   = S->run.output_interval > 0 ? S->t + S->run.output_interval : S->run.t_end;
+    S->out.interval = S->run.output_interval;
+  }
+  if (!S->restarted) S->out.index = 0;
+  if (S->run.checkpoint_interval > 0) io.t_next_ckpt = (PetscFloorReal(S->t / S->run.checkpoint_interval) + 1) * S->run.checkpoint_interval;
+  /* guard: a run the step counter cannot hold (a deck with absurd speeds, materials or t_end) */
+  {
+    PetscReal dt = PSSolverCFLTimeStep(S), hmin = PETSC_MAX_REAL, need, room = (PetscReal)(PETSC_MAX_INT - S->step);
+    PetscInt  d;
+    for (d = 0; d < dim; d++) hmin = PetscMin(hmin, S->h[d]);
+    if (S->run.dt_max > 0) dt = PetscMin(dt, S->run.dt_max);
+    need = (S->run.t_end - S->t) / dt;
+    if (!(S->run.max_steps > 0 || need < room)) {
+      char msg[512]; /* plain %g: 100, not PETSc's 100. */
+      snprintf(msg, sizeof(msg), "run.t_end: %g s needs about %.3g steps of %g s (the fastest marker moves at %g m/s, cells are %g m), more than the step counter holds (%.0f); shorten run.t_end, set run.max_steps, or check the deck's velocities and material data",
+               (double)S->run.t_end, (double)need, (double)dt, (double)S->smax, (double)hmin, (double)room);
+      SETERRQ(comm, PS_ERR_RUN, "%s", msg);
+    }
+  }
+  /* the initial state (a restart's was written by the run it continues) */
+  if (!S->restarted) PetscCall(Output(S, &io));
+  else io.t_last = S->t;
   PetscCall(History(S, &io));
-  t_next_out = S->run.output_interval > 0 ? t_start + S->run.output_interval : S->run.t_end;
   PetscCall(PetscTime(&w0));
-  wlast = w0;
+  wlast       = w0;
+  io.ckpt_wall = w0;
   while (S->t < S->run.t_end * (1.0 - 1e-12) && (S->run.max_steps <= 0 || S->step - step0 < S->run.max_steps)) {
-    const PetscReal t_stop = PetscMin(t_next_out, S->run.t_end);
+    const PetscReal t_stop = PetscMin(S->out.t_next, S->run.t_end);
+    PetscBool       output = PETSC_FALSE, due;
     PetscCall(PSSolverStep(S, t_stop));
     if (S->t >= t_stop * (1.0 - 1e-12) || (S->run.history_interval > 0 && S->step % S->run.history_interval == 0)) PetscCall(History(S, &io));
-    if (S->t >= t_next_out * (1.0 - 1e-12)) {
+    if (S->t >= S->out.t_next * (1.0 - 1e-12)) {
       PetscCall(Output(S, &io));
-      t_next_out = S->run.output_interval > 0 ? t_next_out + S->run.output_interval : S->run.t_end;
+      nout++;
+      output        = PETSC_TRUE;
+      S->out.t_next = S->run.output_interval > 0 ? S->out.t_next + S->run.output_interval : S->run.t_end;
     }
+    PetscCall(CheckpointDue(S, &io, output, &due));
+    if (due) PetscCall(WriteCheckpoint(S, &io));
     /* progress on rank 0: step, time, dt, ETA */
     PetscCall(PetscTime(&now));
     if (S->run.progress_interval > 0 ? S->step % S->run.progress_interval == 0 : now - wlast > 2.0) {
@@ -225,17 +335,18 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
   }
   if (S->t > io.t_last) { /* the end state is always written */
     PetscCall(Output(S, &io));
+    nout++;
     PetscCall(History(S, &io));
   }
-  PetscCall(PetscSNPrintf(fn, sizeof(fn), "%s/checkpoint.h5", outdir));
-  PetscCall(PSSolverCheckpoint(S, fn));
+  if (io.ckpt_step != S->step) PetscCall(WriteCheckpoint(S, &io)); /* and checkpointed */
   PetscCall(PetscTime(&now));
-  PetscCall(PetscPrintf(comm, "done: %" PetscInt_FMT " steps to t = %.6e s in %.2f s wall, %" PetscInt_FMT " outputs in %s\n", S->step - step0, (double)S->t, (double)(now - w0), io.index, outdir));
+  PetscCall(PetscPrintf(comm, "done: %" PetscInt_FMT " steps to t = %.6e s in %.2f s wall, %" PetscInt_FMT " outputs in %s\n", S->step - step0, (double)S->t, (double)(now - w0), nout + (S->restarted ? 0 : 1), outdir));
   if (!rank) {
     PetscCall(PetscFClose(PETSC_COMM_SELF, io.hist));
     PetscCall(PetscFClose(PETSC_COMM_SELF, io.bodies));
     if (io.gauges) PetscCall(PetscFClose(PETSC_COMM_SELF, io.gauges));
   }
+  S->body_names = S->material_names = NULL;
   PetscCall(VecDestroy(&io.out1));
   PetscCall(DMDestroy(&io.da1));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -178,6 +178,9 @@ PetscErrorCode PSRunParamsRead(MPI_Comm comm, PSRunParams *r)
   PetscCall(PetscOptionsInt("-max_steps", "stop after this many steps (0: none)", "plyshock", r->max_steps, &r->max_steps, NULL));
   PetscCall(PetscOptionsInt("-history_interval", "steps between history rows", "plyshock", r->history_interval, &r->history_interval, NULL));
   PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
+  PetscCall(PetscOptionsReal("-checkpoint_interval", "simulated time between checkpoints (s); 0: at every output time", "plyshock", r->checkpoint_interval, &r->checkpoint_interval, NULL));
+  PetscCall(PetscOptionsReal("-checkpoint_wall_interval", "wall time between checkpoints (s); 0: none", "plyshock", r->checkpoint_wall_interval, &r->checkpoint_wall_interval, NULL));
+  PetscCall(PetscOptionsReal("-dt_floor", "stop when the time step falls below this share of the initial one; 0: never", "plyshock", r->dt_floor, &r->dt_floor, NULL));
   PetscOptionsEnd();
   r->shape    = (PSShapeType)shape;
   r->transfer = (PSTransferType)transfer;
@@ -211,6 +214,9 @@ PetscErrorCode PSRunParamsCheck(const PSRunParams *r, const char **key, char msg
   RANGE(r->max_steps >= 0, "run.max_steps", "%" PetscInt_FMT " is out of range; allowed [0, inf)", r->max_steps);
   RANGE(r->history_interval >= 1, "run.history_interval", "%" PetscInt_FMT " is out of range; allowed [1, inf)", r->history_interval);
   RANGE(r->progress_interval >= 0, "run.progress_interval", "%" PetscInt_FMT " is out of range; allowed [0, inf)", r->progress_interval);
+  RANGE(r->checkpoint_interval >= 0 && r->checkpoint_interval < PETSC_INFINITY, "run.checkpoint_interval", "%g is out of range; allowed [0, inf) s (0: at every output time)", (double)r->checkpoint_interval);
+  RANGE(r->checkpoint_wall_interval >= 0 && r->checkpoint_wall_interval < PETSC_INFINITY, "run.checkpoint_wall_interval", "%g is out of range; allowed [0, inf) s of wall time (0: none)", (double)r->checkpoint_wall_interval);
+  RANGE(r->dt_floor >= 0 && r->dt_floor < 1, "run.dt_floor", "%g is out of range; allowed [0, 1) (a share of the initial time step; 0: no floor)", (double)r->dt_floor);
   RANGE(r->lanes == 1 || r->lanes == 4, "-run_lanes", "%" PetscInt_FMT " must be 1 or 4", r->lanes);
   /* MLS-MPM's D_p = h^2/4 I holds for quadratic B-splines only */
   RANGE(r->transfer != PS_TRANSFER_APIC || r->shape == PS_SHAPE_BSPLINE2, "run.transfer", "apic (MLS-MPM, D_p = h^2/4 I) needs run.shape bspline2, got %s", PSShapeTypes[r->shape]);

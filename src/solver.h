@@ -139,7 +139,23 @@ typedef struct {
   PetscReal   dt_max;          /* s; 0 = none */
   PetscBool   fbar;            /* cell-averaged volumetric rate (Delta-F-bar anti-locking) */
   PetscInt    lanes;           /* markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar; option only, for checks) */
+  PetscReal   checkpoint_interval;      /* s of simulated time between checkpoints; 0 = at every output time */
+  PetscReal   checkpoint_wall_interval; /* s of wall time between checkpoints; 0 = none */
+  PetscReal   dt_floor;        /* the run stops when the CFL time step falls below this share of the initial one (0 = never) */
 } PSRunParams;
+
+/* Where the outputs stand (run.c); checkpointed, so a restart continues the
+   same output times and numbers. */
+typedef struct {
+  PetscInt  index;    /* number of the next markers_NNNNN.h5 */
+  PetscReal t_next;   /* time of the next output (s) */
+  PetscReal interval; /* the output interval they were planned with (s) */
+} PSOutputSchedule;
+
+/* Error code of the run-time guards that every rank raises together (the
+   front end then reports the message once and exits with status 2); any other
+   error during a run may come from one rank alone. */
+#define PS_ERR_RUN 256
 
 /* Conserved totals, global (or one rank's booked removals). */
 typedef struct {
@@ -187,6 +203,10 @@ typedef struct {
   PetscBool      has_ply;        /* the scene has laminates: markers carry a ply id */
   PetscInt       zbox[3][2];     /* DMDA nodes [lo, hi) the last step wrote: the grid vectors are zero outside */
   PetscBool      zall;           /* zero the grid vectors whole before the next step */
+  PetscReal      dt0;            /* the run's first CFL time step (s): run.dt_floor's reference; checkpointed */
+  PSOutputSchedule out;          /* the outputs' schedule (run.c); checkpointed */
+  PetscBool      restarted;      /* the state came from a checkpoint (PSSolverRestart) */
+  const char *const *body_names, *const *material_names; /* for messages, during PSSolverRun */
 } PSSolver;
 
 PETSC_EXTERN PetscErrorCode PSSolverCreate(const PSScene *, DM da, DM sw, const PSRunParams *, const PSMaterial *, const PetscInt bc[6], PSSolver **);
@@ -204,6 +224,8 @@ PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]
 PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverCellsGet(PSSolver *, PetscInt cs[3], PetscInt cm[3], PetscInt layout[3], PetscReal *out);
 PETSC_EXTERN PetscErrorCode PSSolverCellNodesGet(PSSolver *, PetscInt ns[3], PetscInt nm[3], PetscReal *out);
+PETSC_EXTERN PetscErrorCode PSCheckpointVerify(MPI_Comm, const PSScene *, const char filename[], char msg[], size_t len);
+PETSC_EXTERN PetscReal      PSSolverCFLTimeStep(const PSSolver *);
 PETSC_INTERN PetscErrorCode PSHaloCreate(PSSolver *, PetscInt dof, PetscSF *);
 PETSC_INTERN PetscErrorCode PSHaloCreateBox(MPI_Comm, PetscInt dim, const PetscInt N[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt dof, PetscSF *);
 PETSC_INTERN PetscErrorCode PSHaloReduce(PetscSF, PetscReal *);

@@ -1,7 +1,8 @@
 /*
   totals.c - the conserved totals over all ranks (mass, momentum, kinetic and
   internal energy of markers and cell materials) with the booked losses, for
-  history.csv and the tests.
+  history.csv and the tests.  With nothing left the peak pressure is 0 (there
+  is no material to carry one), never the -DBL_MAX the maximum starts from.
 */
 #include "step.h"
 #include "cells/cells.h"
@@ -63,5 +64,6 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
   T->lost_energy = glost[4];
   T->markers      = ng[0];
   T->lost_markers = ng[1];
+  if (T->max_pressure == -PETSC_MAX_REAL) T->max_pressure = 0.0; /* no material left anywhere */
   PetscFunctionReturn(PETSC_SUCCESS);
 }

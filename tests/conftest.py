@@ -61,6 +61,21 @@ def run_cli(args, ranks=None, timeout=300):
     return COMM.bcast(out, root=0)
 
 
+def write_deck(path, d):
+    """A deck file from a dict, written by rank 0 (all ranks return its path)."""
+    if COMM.rank == 0:
+        import yaml
+        with open(path, "w") as f:
+            f.write("# plyshock test deck; SI units\n" + yaml.safe_dump(d))
+    COMM.Barrier()
+    return path
+
+
+def clean(err):
+    """A command's stderr holds no traceback and no HDF5 or PETSc error dump from any rank."""
+    return "Traceback" not in err and "HDF5-DIAG" not in err and "PETSC ERROR" not in err
+
+
 @pytest.fixture(autouse=True)
 def _sync():
     """Ranks leave each test together; PETSc garbage is collected."""

@@ -272,7 +272,7 @@ def test_ply_stability_cases_run_5000_steps(case, tmpdir_mpi):
     if COMM.rank == 0:
         print(f"\n{case}: 5000 steps to t = {H['time'][-1]:.3e} s, energy drift {100 * drift:.2f}%, "
               f"{int(H['markers'][-1])} markers")
-    assert drift < 0.05, drift
+    assert drift < 0.025, drift                      # issue 15: under 2.5% (a ply a tenth of a cell thick there; 1/25 here)
 
 
 def test_a_step_that_inverts_a_marker_is_an_error_naming_it():

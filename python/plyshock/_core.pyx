@@ -109,6 +109,9 @@ cdef extern from "solver.h":
         PetscReal dt_max
         PetscBool fbar
         PetscInt lanes
+        PetscReal checkpoint_interval
+        PetscReal checkpoint_wall_interval
+        PetscReal dt_floor
     ctypedef struct PSPly:
         PetscReal C[36]
         PetscReal K_R, c2max
@@ -128,6 +131,7 @@ cdef extern from "solver.h":
     ctypedef struct PSSolver:
         PetscReal t, dt
         PetscInt step
+        PetscBool restarted
     PetscErrorCode PSSolverCreate(const PSScene *, PetscDM, PetscDM, const PSRunParams *, const PSMaterial *, const PetscInt *, PSSolver **)
     PetscErrorCode PSSolverDestroy(PSSolver **)
     PetscErrorCode PSRunParamsRead(MPI_Comm, PSRunParams *)
@@ -143,6 +147,7 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverCheckpoint(PSSolver *, const char *)
     PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt, const PetscInt64 *)
     PetscErrorCode PSSolverRestart(PSSolver *, const char *)
+    PetscErrorCode PSCheckpointVerify(MPI_Comm, const PSScene *, const char *, char *, size_t)
     PetscErrorCode PSMarkersRegisterFields(const PSScene *, PetscDM, PetscInt *)
 
 KIND = {"laminate": PS_BODY_LAMINATE, "box": PS_BODY_BOX, "sphere": PS_BODY_SPHERE, "cylinder": PS_BODY_CYLINDER}
@@ -313,6 +318,14 @@ cdef class CScene:
         CHK(PSInsertMarkers(&self.s, da.dm, sw.dm, &st))
         return dict(pieces=st.pieces, markers=st.markers, slivers_merged=st.slivers_merged, slivers_kept=st.slivers_kept)
 
+    def verify_checkpoint(self, str filename):
+        """What is wrong with a checkpoint for this scene, or None when it can
+        be restarted from (collective on PETSC_COMM_WORLD; HDF5 prints nothing)."""
+        cdef char msg[512]
+        fn = filename.encode()
+        CHK(PSCheckpointVerify(PETSC_COMM_WORLD, &self.s, fn, msg, sizeof(msg)))
+        return msg.decode(errors="replace") if msg[0] else None
+
     def write(self, DM sw, str filename, dict attrs, list body_names, list material_names):
         names = _Strings(list(attrs.keys()))
         values = _Strings([str(v) for v in attrs.values()])
@@ -368,6 +381,9 @@ cdef fill_run(PSRunParams *r, dict run):
     r.dt_max = run["dt_max"]
     r.fbar = <PetscBool>(1 if run.get("fbar") else 0)
     r.lanes = run.get("lanes", 4)
+    r.checkpoint_interval = run.get("checkpoint_interval", 0.0)
+    r.checkpoint_wall_interval = run.get("checkpoint_wall_interval", 0.0)
+    r.dt_floor = run.get("dt_floor", 1e-3)
 
 
 cdef dict run_dict(const PSRunParams *r):
@@ -375,7 +391,8 @@ cdef dict run_dict(const PSRunParams *r):
                 output_interval=r.output_interval, c_linear=r.c_linear, c_quadratic=r.c_quadratic,
                 pic_fraction=r.pic_fraction, dt_growth=r.dt_growth, mass_threshold=r.mass_threshold,
                 max_steps=r.max_steps, history_interval=r.history_interval, progress_interval=r.progress_interval,
-                dt_max=r.dt_max, fbar=bool(r.fbar), lanes=r.lanes)
+                dt_max=r.dt_max, fbar=bool(r.fbar), lanes=r.lanes, checkpoint_interval=r.checkpoint_interval,
+                checkpoint_wall_interval=r.checkpoint_wall_interval, dt_floor=r.dt_floor)
 
 
 def run_params(dict run):
@@ -431,6 +448,10 @@ cdef class Solver:
     @property
     def step_count(self):
         return self.S.step
+
+    @property
+    def restarted(self):
+        return bool(self.S.restarted)
 
     def step(self, t_stop=None):
         if self.S.step == 0 and self.S.dt == 0:

@@ -3,12 +3,15 @@
     plyshock check SCENE.yaml                    validate; expected markers and memory
     plyshock init SCENE.yaml -o OUT.h5 [--png F] insert markers (under mpiexec or alone)
     plyshock run SCENE.yaml -o OUTDIR            insert and run to run.t_end (-run_<key> overrides)
+    plyshock run SCENE.yaml -o OUTDIR --restart OUTDIR/checkpoint.h5   resume a killed run
     plyshock verify [-o DIR] [--levels N]        error against run time (work-precision), CSV + PNG
     plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
-Bad input exits with status 2 and a message naming the deck key.
+Bad input exits with status 2 and a message naming the deck key; so does a run
+stopped by a guard (a collapsing time step, an inverted marker) or a
+checkpoint that cannot be restarted from.
 """
 import argparse
 import os
@@ -26,6 +29,27 @@ def _print0(*a):
         print(*a, flush=True)
 
 
+PS_ERR_RUN = 256    # = PS_ERR_RUN in src/solver.h: a run-time guard every rank raises together
+
+
+def _petsc_error(e):
+    """A PETSc error from the C code as one `plyshock: error:` line, exit status 2.
+    A guard every rank raised together (PS_ERR_RUN) is reported once by rank 0;
+    any other error may have come from one rank alone while the others wait in
+    a collective call, so that rank reports it and aborts the run."""
+    from mpi4py import MPI
+    tb = getattr(e, "_traceback_", None) or []
+    code = getattr(e, "ierr", e.args[0] if e.args else -1)
+    msg = tb[-1].strip() if tb else f"PETSc error code {code}"
+    comm = MPI.COMM_WORLD
+    if code == PS_ERR_RUN or comm.size == 1:
+        if comm.rank == 0:
+            print(f"plyshock: error: {msg}", file=sys.stderr, flush=True)
+        return 2
+    print(f"plyshock: error: {msg} (rank {comm.rank}; stopping every rank)", file=sys.stderr, flush=True)
+    comm.Abort(2)
+
+
 def _parser():
     p = argparse.ArgumentParser(prog="plyshock", description=__doc__.split("\n\n")[0],
                                 epilog="PETSc options (e.g. -log_view) may follow any command.")
@@ -40,7 +64,8 @@ def _parser():
     r = sub.add_parser("run", help="insert a scene and run it to run.t_end (explicit MPM); -run_<key> overrides the deck's run section")
     r.add_argument("deck")
     r.add_argument("-o", "--output", required=True, help="output directory")
-    r.add_argument("--restart", help="continue from a checkpoint.h5 written by an earlier run of the same deck")
+    r.add_argument("--restart", help="continue from a checkpoint.h5 written by an earlier run of the same deck (checked first); "
+                   "into that run's OUTDIR it resumes a killed run, appending to its .csv files")
     v = sub.add_parser("verify", help="error against run time: plate impact and elastic wave, every shape function, finer grids")
     v.add_argument("-o", "--output", default="out/verify", help="output directory (verify.csv, verify.png)")
     v.add_argument("--levels", type=int, default=3, help="grid levels from 100 um, halving (default 3)")
@@ -116,6 +141,11 @@ def main(argv=None):
         if _rank() == 0:
             print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
         return 2
+    except Exception as e:
+        petsc = sys.modules.get("petsc4py.PETSc")
+        if petsc is not None and isinstance(e, petsc.Error):
+            return _petsc_error(e)
+        raise
 
 
 def _table(scene, counts, masses=None):
@@ -132,18 +162,30 @@ def _table(scene, counts, masses=None):
 
 def _check(scene):
     from . import core
+    from .errors import DeckError
     cs = core.c_scene(scene)
     clipped = core.check_geometry(scene, cs)
+    # the grid's size and memory before the count, which takes as long as the grid is large
+    r = core.resources(scene, cs)
+    try:
+        core.check_resources(r, scene)
+    except DeckError:
+        _print0(f"memory: {core.describe_resources(r)} (estimate)")
+        raise
     counts, nbytes = core.count_markers(scene, cs)
     P = cs.maxply + 1
     d = {(b, p - 1): int(counts[b, p]) for b in range(counts.shape[0]) for p in range(P) if counts[b, p]}
     total = sum(d.values())
-    _print0(f"deck OK: dimension {scene.dimension}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
+    r = core.resources(scene, cs, markers=total)
+    _print0(f"deck {'OK' if r['grid_bytes'] + r['marker_bytes'] <= r['machine_bytes'] else 'too large'}: "
+            f"dimension {scene.dimension}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
             f"{len(scene.materials)} materials, {len(scene.bodies)} bodies (SI units)")
     for name, v in clipped.items():
         _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
     _print0(_table(scene, d))
     _print0(f"expected markers: {total}, {nbytes} bytes per marker, {total * nbytes / 2**20:.3f} MiB")
+    _print0(f"memory: {core.describe_resources(r)} (estimate)")
+    core.check_resources(r, scene)
     for w in core.damage_warnings(scene):
         _print0(f"warning: {w}")
     return 0
@@ -221,8 +263,10 @@ def _run(scene, text, outdir, restart=None):
     from petsc4py import PETSc
     from . import core
     core.run_options(scene)                 # run errors before any work
+    if restart:
+        core.verify_checkpoint(scene, restart)   # a damaged checkpoint too
     m = core.initialize(scene, restart=bool(restart))
-    S = core.make_solver(m, restart)      # material and run errors before any step
+    S = core.make_solver(m, restart, verified=True)      # material and run errors before any step
     for w in core.damage_warnings(scene):
         _print0(f"warning: {w}")
     _print0(f"running {m.stats['markers']} markers on {PETSc.COMM_WORLD.getSize()} rank(s), {m.bytes_per_marker} bytes per marker; "

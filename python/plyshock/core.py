@@ -72,7 +72,11 @@ def run_options(scene):
             raise DeckError(f"-run_{key}", f"must be one of {'|'.join(names)}, got {v!r}")
     if scene.run is None:
         raise DeckError("run", "a run needs a run: section with at least t_end (s)")
-    params, key, msg = _core.run_params(run_to_c(scene.run))
+    try:
+        params, key, msg = _core.run_params(run_to_c(scene.run))
+    except PETSc.Error as e:          # an option PETSc cannot read (-run_cfl abc): every rank reads it alike
+        tb = getattr(e, "_traceback_", None) or ["?"]
+        raise DeckError("-run_<key>", f"{tb[-1].strip()} (a -run_<key> option on the command line)") from None
     if key is not None:
         opt = "-run_lanes" if key == "-run_lanes" else "-run_" + key.split(".")[-1]
         raise DeckError(key, f"{msg} (the deck's {key} or the option {opt})" if key != "-run_lanes" else msg)
@@ -137,6 +141,114 @@ def check_geometry(scene, cs):
     return clipped
 
 
+# bytes per grid node: the DMDA vectors the solver keeps (global and ghosted
+# local of m, mv, f; of the re-projected v; one output vector; coordinates),
+# reals, plus about two indices of maps and halo (an estimate, not a count)
+def _grid_bytes_per_node(dim):
+    return 8 * (3 + 8 * dim) + 16
+
+
+# per marker besides its fields: the step's scratch (displacement, shape functions
+# PSShape of src/shape.h) and a quarter of spare swarm buffer
+def _marker_bytes(dim, field_bytes):
+    return int(1.25 * field_bytes) + 8 * dim + 16 + 2 * 3 * 4 * 8
+
+
+def machine_memory():
+    """This machine's physical memory (bytes)."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemTotal:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+
+
+def resources(scene, cs, markers=None, hosts=1, ranks=1):
+    """What a scene needs before anything is made: grid nodes, the entries of
+    the largest grid vector against PETSc's index size, and memory (bytes) for
+    the grid and the markers (markers: an exact count, else an estimate from
+    the bodies' volumes) against the memory of the machines (hosts of this
+    machine's size).  No PETSc object is made."""
+    from petsc4py import PETSc
+    g, dim = scene.grid, scene.dimension
+    nodes = int(np.prod([n + 1 + 2 * PAD for n in g.cells]))
+    cells = int(np.prod(g.cells))
+    estimated = markers is None
+    if markers is None:        # each body's volume in cells, times its sub-cells: a floor for the count
+        vcell = float(np.prod(g.h))
+        vgrid = float(np.prod(np.subtract(g.upper, g.lower)))
+        markers = round(sum(min(cs.body_volume(i), vgrid) / vcell * b.subdivision ** dim for i, b in enumerate(scene.bodies)))
+    per_marker = _marker_bytes(dim, cs.marker_bytes(None))
+    return dict(cells=cells, nodes=nodes, entries=nodes * (1 + 2 * dim), index_max=int(np.iinfo(PETSc.IntType).max),
+                index_bits=8 * np.dtype(PETSc.IntType).itemsize, markers=markers, markers_estimated=estimated,
+                grid_bytes=nodes * _grid_bytes_per_node(dim), marker_bytes=markers * per_marker,
+                machine_bytes=machine_memory() * hosts, hosts=hosts, ranks=ranks)
+
+
+def describe_resources(r):
+    mib = 2.0 ** 20
+    tot = r["grid_bytes"] + r["marker_bytes"]
+    where = "this machine's" if r["hosts"] == 1 else f"{r['hosts']} machines'"
+    return (f"about {tot / mib:.1f} MiB (grid of {r['nodes']} nodes {r['grid_bytes'] / mib:.1f} MiB, "
+            f"{'at least ' if r['markers_estimated'] else ''}{r['markers']} markers {r['marker_bytes'] / mib:.1f} MiB) "
+            f"of {where} {r['machine_bytes'] / mib:.0f} MiB")
+
+
+def check_resources(r, scene):
+    """DeckError (grid.cells) when the grid overflows PETSc's index or the
+    run would not fit in memory; r from resources()."""
+    cells = " x ".join(map(str, scene.grid.cells))
+    if r["entries"] > r["index_max"] or r["cells"] > r["index_max"]:
+        raise DeckError("grid.cells", f"{cells} = {r['cells']:.4g} cells: the grid vectors would hold {r['entries']:.4g} entries, "
+                        f"beyond PETSc's {r['index_bits']}-bit index limit {r['index_max']}; use fewer cells")
+    if r["markers"] / max(r["ranks"], 1) > r["index_max"]:
+        raise DeckError("grid.cells", f"{r['markers']:.4g} markers on {r['ranks']} rank(s) exceed PETSc's "
+                        f"{r['index_bits']}-bit index limit {r['index_max']} per rank; use fewer cells or more ranks")
+    if r["grid_bytes"] + r["marker_bytes"] > r["machine_bytes"]:
+        raise DeckError("grid.cells", f"{cells} cells need more memory than there is: {describe_resources(r)}; "
+                        f"use fewer cells or sub-cells, or more machines")
+
+
+def verify_checkpoint(scene, path, cs=None):
+    """A checkpoint fit to restart this scene from, or DeckError(--restart) saying
+    what is wrong with it (missing, not HDF5, truncated, incomplete, damaged,
+    another grid or deck), the same on every rank, before any work."""
+    if not os.path.exists(path):
+        raise DeckError("--restart", f"checkpoint {path} does not exist")
+    if os.path.isdir(path):
+        raise DeckError("--restart", f"{path} is a directory; give the checkpoint file (OUTDIR/checkpoint.h5)")
+    msg = (cs or c_scene(scene)).verify_checkpoint(path)
+    if msg:
+        raise DeckError("--restart", f"checkpoint {path} {msg}")
+
+
+def resume_outputs(outdir, step, time):
+    """Before a restart into OUTDIR (rank 0): cut history.csv back to the rows
+    before the checkpoint's step, bodies.csv and gauges.csv to those before its
+    time, dropping a row a killed run left half written; the restarted run
+    appends from there."""
+    for name, col, limit in (("history.csv", 0, step), ("bodies.csv", 0, float(f"{time:.10e}")), ("gauges.csv", 0, float(f"{time:.10e}"))):
+        fn = os.path.join(outdir, name)
+        if not os.path.exists(fn):
+            continue
+        with open(fn, errors="replace") as f:
+            lines = f.read().split("\n")
+        keep = lines[:1]
+        ncol = len(lines[0].split(","))
+        for line in lines[1:]:
+            cells = line.split(",")
+            try:
+                if len(cells) == ncol and float(cells[col]) < limit:
+                    keep.append(line)
+            except ValueError:
+                pass
+        with open(fn, "w") as f:
+            f.write("\n".join(keep) + "\n")
+
+
 def count_markers(scene, cs):
     """Markers per (body, ply+1) that insertion will make, counted serially, and
     bytes per marker; nothing is inserted and no PETSc object is made."""
@@ -164,6 +276,9 @@ def initialize(scene, cs=None, comm=None, restart=False):
         cs = c_scene(scene)
     clipped = check_geometry(scene, cs)
     comm = comm or PETSc.COMM_WORLD
+    from mpi4py import MPI
+    hosts = len(set(comm.tompi4py().allgather(MPI.Get_processor_name())))
+    check_resources(resources(scene, cs, hosts=hosts, ranks=comm.getSize()), scene)
     _core.initialize()
     g, dim = scene.grid, scene.dimension
     # nodes: cells + 1 plus PAD outside the domain on each side (shape functions
@@ -422,12 +537,14 @@ def run_to_c(run):
                 c_linear=av["c_linear"], c_quadratic=av["c_quadratic"], pic_fraction=run.pic_fraction,
                 dt_growth=run.dt_growth, mass_threshold=run.mass_threshold, max_steps=run.max_steps,
                 history_interval=run.history_interval, progress_interval=run.progress_interval, dt_max=run.dt_max,
-                fbar=run.fbar)
+                fbar=run.fbar, checkpoint_interval=run.checkpoint_interval,
+                checkpoint_wall_interval=run.checkpoint_wall_interval, dt_floor=run.dt_floor)
 
 
-def make_solver(m, restart=None):
+def make_solver(m, restart=None, verified=False):
     """The C solver on initialised markers m (from initialize); reads -run_<key> options.
-    restart: a checkpoint.h5 to continue from (m from initialize(restart=True))."""
+    restart: a checkpoint.h5 to continue from (m from initialize(restart=True)),
+    checked first unless verified (by verify_checkpoint, before any work)."""
     from . import _core
     scene = m.scene
     params = run_options(scene)
@@ -438,8 +555,8 @@ def make_solver(m, restart=None):
     if scene.gauges and not restart:
         S.set_gauges(gauge_markers(m, [g["point"] for g in scene.gauges]))
     if restart:
-        if not os.path.exists(restart):
-            raise DeckError("--restart", f"checkpoint {restart} does not exist")
+        if not verified:
+            verify_checkpoint(scene, restart, m.cs)
         S.restart(restart)
         m.stats = {"markers": m.sw.getComm().tompi4py().allreduce(m.sw.getLocalSize())}
         m.bytes_per_marker = m.cs.marker_bytes(m.sw)
@@ -465,10 +582,19 @@ def run(m, outdir, deck_text, solver=None):
     from petsc4py import PETSc
     from . import __version__
     comm = m.sw.getComm()
+    err = None
     if comm.getRank() == 0:
-        os.makedirs(outdir, exist_ok=True)
-    comm.barrier()
+        try:
+            os.makedirs(outdir, exist_ok=True)
+        except OSError as e:
+            err = f"cannot make the output directory {outdir}: {e.strerror}"
+    err = comm.tompi4py().bcast(err, root=0)
+    if err:
+        raise DeckError("-o", err)
     S = solver or make_solver(m)
+    if S.restarted and comm.getRank() == 0:
+        resume_outputs(outdir, S.step_count, S.time)
+    comm.barrier()
     opts = " ".join(f"-{k} {v}".strip() for k, v in PETSc.Options().getAll().items())
     attrs = {"deck": deck_text, "code_version": __version__, "petsc_options": opts, "ranks": str(comm.getSize()),
              "command": " ".join(sys.argv), "dimension": str(m.scene.dimension), "run": repr(S.run_params)}

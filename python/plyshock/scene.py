@@ -14,7 +14,16 @@ from .errors import DeckError, check_keys, number, vector
 from .materials import PRESETS, preset
 
 FACES = ("x-", "x+", "y-", "y+", "z-", "z+")
+# The fastest body a deck may set moving (m/s): above the fastest natural impacts
+# (meteoroids, up to about 72 km/s) and far above any gun; beyond it a time step
+# would shrink toward nothing (1e20 m/s) or the kinetic energy overflow (1e300).
+V_MAX = 1.0e5
 BOUNDARY_KINDS = ("free", "symmetry", "fixed")
+# Largest ratio of a cell's longest side to its shortest: MPM's shape functions
+# want near-square cells, and the exact insertion bisects a cell cut by a
+# curved surface in every direction at once, so its work grows as the ratio
+# to the power dim - 1 (a 1e7:1 cell never finished).
+MAX_CELL_ASPECT = 10.0
 
 
 @dataclass
@@ -35,9 +44,15 @@ class Grid:
         for i in range(dim):
             if self.upper[i] <= self.lower[i]:
                 raise DeckError(f"{path}.upper[{i}]", f"{self.upper[i]} must be > lower[{i}] = {self.lower[i]}")
+        h = self.h
+        if max(h) > MAX_CELL_ASPECT * min(h):
+            raise DeckError(f"{path}.cells", f"cells of {' x '.join(f'{x:.4g}' for x in h)} m have an aspect ratio of "
+                            f"{max(h) / min(h):.4g}; allowed at most {MAX_CELL_ASPECT:g} (choose cells so that (upper - lower) / cells "
+                            f"are alike in every direction)")
         faces = FACES[: 2 * dim]
-        b = dict(self.boundary or {})
-        check_keys(b, faces, f"{path}.boundary")
+        b = self.boundary if self.boundary is not None else {}
+        check_keys(b, faces, f"{path}.boundary")      # a mapping of faces
+        b = dict(b)
         for f in faces:
             kind = b.setdefault(f, "free")
             if kind not in BOUNDARY_KINDS:
@@ -62,6 +77,18 @@ MODEL_KEYS = {
                  "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney")},
     "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5"),
                 "hashin": ("type", "G_ft", "G_fc", "G_mt", "G_mc")},   # fracture energies J/m^2
+}
+
+
+# Ranges of the models' parameters (lo, hi, lo excluded); None: unbounded.
+# Sound speed up to V_MAX (diamond's is 18 km/s); Johnson-Cook's D1..D5 take any sign.
+MODEL_RANGES = {
+    ("eos", "c0"): (0, 1e5, True), ("eos", "s"): (0, 10, False), ("eos", "gamma0"): (0, 10, False),
+    ("eos", "spall_pressure"): (None, 0, False),
+    ("strength", "yield_stress"): (0, None, True), ("strength", "taylor_quinney"): (0, 1, False),
+    ("strength", "A"): (0, None, False), ("strength", "B"): (0, None, False), ("strength", "n"): (0, None, False),
+    ("strength", "C"): (0, None, False), ("strength", "m"): (0, None, True), ("strength", "T_melt"): (0, None, True),
+    ("strength", "T_room"): (0, None, True), ("strength", "eps_dot0"): (0, None, True),
 }
 
 
@@ -98,7 +125,7 @@ class Material:
             raise DeckError(f"{path}.name", f"must be a non-empty string, got {self.name!r}")
         explicit = {k: getattr(self, k) for k in self.KEYS[2:] if getattr(self, k) is not None}
         if self.preset is not None:
-            if self.preset not in PRESETS:
+            if not isinstance(self.preset, str) or self.preset not in PRESETS:
                 import difflib
                 near = difflib.get_close_matches(str(self.preset), list(PRESETS), n=1)
                 raise DeckError(f"{path}.preset", f"unknown preset {self.preset!r}{'; did you mean ' + repr(near[0]) + '?' if near else ''} (allowed: {', '.join(PRESETS)})")
@@ -182,12 +209,13 @@ class Material:
         m = getattr(self, key)
         if not isinstance(m, dict) or "type" not in m:
             raise DeckError(f"{path}.{key}", f"must be a mapping with a type from {'|'.join(table)}")
-        if m["type"] not in table:
+        if not isinstance(m["type"], str) or m["type"] not in table:
             raise DeckError(f"{path}.{key}.type", f"unknown {key} type {m['type']!r}; allowed: {'|'.join(table)}")
         check_keys(m, table[m["type"]], f"{path}.{key}")
         for k, v in list(m.items()):
             if k != "type":
-                m[k] = number(v, f"{path}.{key}.{k}")     # YAML reads 1.0e9 (no exponent sign) as a string
+                lo, hi, lo_open = MODEL_RANGES.get((key, k), (None, None, False))
+                m[k] = number(v, f"{path}.{key}.{k}", lo, hi, lo_open=lo_open)     # YAML reads 1.0e9 (no exponent sign) as a string
         required = {"isotropic": ("E", "nu"), "orthotropic": ELASTIC_KEYS["orthotropic"][1:], "mie-gruneisen": ("c0", "s", "gamma0"),
                     "johnson-cook": ("A", "B", "n", "C", "m", "T_melt") if key == "strength" else ("D1", "D2", "D3", "D4", "D5"),
                     "transversely-isotropic": ELASTIC_KEYS["transversely-isotropic"][1:], "hashin": MODEL_KEYS["failure"]["hashin"][1:],
@@ -195,6 +223,8 @@ class Material:
         for k in required:
             if k not in m:
                 raise DeckError(f"{path}.{key}.{k}", f"is required for {key} type {m['type']}")
+        if m["type"] == "johnson-cook" and key == "strength" and m.get("T_room", 294.0) >= m["T_melt"]:
+            raise DeckError(f"{path}.{key}.T_melt", f"{m['T_melt']} K must be above T_room = {m.get('T_room', 294.0)} K")
 
     @property
     def anisotropic(self):
@@ -289,9 +319,13 @@ class Run:
     history_interval: int = 10
     progress_interval: int = 0
     fbar: bool = False                    # cell-averaged volumetric rate (Delta-F-bar; against locking in plastic flow)
+    checkpoint_interval: float = 0.0      # s of simulated time between checkpoints; 0 = at every output time
+    checkpoint_wall_interval: float = 0.0  # s of wall time between checkpoints; 0 = none
+    dt_floor: float = 1e-3                # stop when the time step falls below this share of the first one; 0 = never
 
     KEYS = ("t_end", "cfl", "shape", "transfer", "output_interval", "artificial_viscosity", "pic_fraction", "dt_growth",
-            "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval", "fbar")
+            "dt_max", "mass_threshold", "max_steps", "history_interval", "progress_interval", "fbar",
+            "checkpoint_interval", "checkpoint_wall_interval", "dt_floor")
 
     def validate(self, path="run"):
         """The section's structure: known names and value types.  The values'
@@ -321,6 +355,9 @@ class Run:
         self.progress_interval = number(self.progress_interval, f"{path}.progress_interval", -2**31, 2**31 - 1, integer=True)
         if not isinstance(self.fbar, bool):
             raise DeckError(f"{path}.fbar", f"must be true or false, got {self.fbar!r}")
+        self.checkpoint_interval = number(self.checkpoint_interval, f"{path}.checkpoint_interval")
+        self.checkpoint_wall_interval = number(self.checkpoint_wall_interval, f"{path}.checkpoint_wall_interval")
+        self.dt_floor = number(self.dt_floor, f"{path}.dt_floor")
         return self
 
 
@@ -401,6 +438,8 @@ class Scene:
         return self
 
     def _material_id(self, name, path, names):
+        if not isinstance(name, str):
+            raise DeckError(path, f"must be a material's name, got {name!r} (defined: {', '.join(names)})")
         if name not in names:
             import difflib
             near = difflib.get_close_matches(str(name), list(names), n=1)
@@ -422,6 +461,10 @@ class Scene:
         if not isinstance(b.clip, bool):
             raise DeckError(f"{path}.clip", f"must be true or false, got {b.clip!r}")
         b.velocity = vector(b.velocity if b.velocity is not None else [0.0] * dim, dim, f"{path}.velocity")
+        speed = float(np.sqrt(sum(v * v for v in b.velocity))) if all(abs(v) < 1e150 for v in b.velocity) else float("inf")
+        if speed > V_MAX:
+            raise DeckError(f"{path}.velocity", f"speed {speed:.6g} m/s is out of range; allowed |v| <= {V_MAX:g} m/s "
+                            f"(100 km/s, beyond the fastest natural impacts)")
         if b.representation not in REPRESENTATIONS:
             raise DeckError(f"{path}.representation", f"unknown representation {b.representation!r}; allowed: {'|'.join(REPRESENTATIONS)}")
         if b.pressure is not None:
