@@ -12,6 +12,12 @@
     /run/schedule        next output number, next output time, output
                          interval it was planned with                      (WriteSchedule)
     /run/gauges          ids of the markers the gauges follow (with gauges) (WriteSchedule)
+    /cells/state         (scenes with cell materials) every cell's state, its
+                         dof reals (cells/cells.h), natural order (x fastest)
+    /cells/momentum      the cell materials' nodal momentum P^C, dim per node,
+                         physical nodes in natural order
+    /cells/ranks         per rank: remap heat, coupling work (J)
+    /cells/sweep         the first sweep direction of the next remap     (WriteCells)
     root attributes      format, dim, cells, lower, upper (the grid it was
                          written for), complete = 1 (written last)
     every dataset        attribute checksum (uint64): the sum over its
@@ -28,7 +34,9 @@
 
   Restarting on the same rank count gives every rank back its own markers in
   their order, so the run continues bitwise as if uninterrupted; on another
-  rank count the markers are read in equal slabs and migrated.
+  rank count the markers are read in equal slabs and migrated.  Cells and
+  nodes are stored in natural order, each rank writing and reading the runs
+  of its own box, so they restart on any rank count.
 */
 #include <errno.h>
 #include <fcntl.h>
@@ -36,7 +44,7 @@
 #include <stdio.h>
 #include <unistd.h>
 #include <hdf5.h>
-#include "solver.h"
+#include "cells/cells.h"
 
 #define PS_CHECKPOINT_FORMAT 2
 #define PS_RANK_COLS         7 /* columns of /checkpoint/ranks */
@@ -140,6 +148,128 @@ static PetscErrorCode WriteShared(PSCkptWriter *w, hid_t loc, const char *group,
 {
   PetscFunctionBeginUser;
   PetscCall(WriteTable(w, loc, group, name, type, buf, w->rank ? 0 : N, 0, 0, N));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* A table of N rows of bs reals in natural order of a box grid (n[3] points,
+   x fastest); this rank holds the points [lo, hi) of it, contiguous in buf
+   (x fastest).  Written (or read, write = PETSC_FALSE) collectively as the
+   runs along x of its box; the checksum is each element's at its natural
+   place, so it is the same on any rank count. */
+static PetscErrorCode BoxTable(PSCkptWriter *w, hid_t loc, const char *group, const char *name, const PetscInt n[3], const PetscInt lo[3], const PetscInt hi[3], PetscInt bs, PetscReal *buf, PetscBool write)
+{
+  const hsize_t N = (hsize_t)n[0] * n[1] * n[2];
+  hsize_t       gd[2] = {N, (hsize_t)bs}, cnt = 0;
+  hid_t         fs, ms, ds, xfer, as, at;
+  char          path[256];
+  uint64_t      part = 0, sum;
+  PetscInt      j, k;
+  PetscBool     any = PETSC_FALSE;
+  static double none;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/%s", group, name));
+  fs = H5Screate_simple(2, gd, NULL);
+  H5CHK(fs, "H5Screate_simple");
+  if (write) ds = H5Dcreate2(loc, name, H5T_NATIVE_DOUBLE, fs, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  else ds = H5Dopen2(loc, name, H5P_DEFAULT);
+  H5CHK(ds, path);
+  H5CHK(H5Sselect_none(fs), "H5Sselect_none");
+  for (k = lo[2]; k < hi[2]; k++)
+    for (j = lo[1]; j < hi[1]; j++) {
+      const hsize_t row = ((hsize_t)k * n[1] + j) * n[0] + lo[0], st[2] = {row, 0}, ct[2] = {(hsize_t)(hi[0] - lo[0]), (hsize_t)bs};
+      if (ct[0] == 0) continue;
+      H5CHK(H5Sselect_hyperslab(fs, H5S_SELECT_OR, st, NULL, ct, NULL), "H5Sselect_hyperslab");
+      if (write) part += ChecksumPart(PETSC_REAL, buf + cnt * bs, (PetscInt64)ct[0] * bs, (PetscInt64)row * bs, Seed(path));
+      cnt += ct[0];
+      any = PETSC_TRUE;
+    }
+  {
+    hsize_t md[2] = {PetscMax(cnt, 1), (hsize_t)bs};
+    ms = H5Screate_simple(2, md, NULL);
+    if (!any) H5CHK(H5Sselect_none(ms), "H5Sselect_none");
+  }
+  xfer = H5Pcreate(H5P_DATASET_XFER);
+  H5CHK(H5Pset_dxpl_mpio(xfer, H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio");
+  if (write) H5CHK(H5Dwrite(ds, H5T_NATIVE_DOUBLE, ms, fs, xfer, any ? buf : &none), path);
+  else H5CHK(H5Dread(ds, H5T_NATIVE_DOUBLE, ms, fs, xfer, any ? buf : &none), path);
+  if (write) {
+    PetscCallMPI(MPI_Allreduce(&part, &sum, 1, MPI_UINT64_T, MPI_SUM, w->comm));
+    {
+      const hsize_t one = 1;
+      as = H5Screate_simple(1, &one, NULL);
+      at = H5Acreate2(ds, "checksum", H5T_NATIVE_UINT64, as, H5P_DEFAULT, H5P_DEFAULT);
+      H5CHK(at, "checksum");
+      H5CHK(H5Awrite(at, H5T_NATIVE_UINT64, &sum), "checksum");
+      H5Aclose(at);
+      H5Sclose(as);
+    }
+  }
+  H5Pclose(xfer);
+  H5Sclose(ms);
+  H5Dclose(ds);
+  H5Sclose(fs);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the boxes of this rank's cells and physical nodes, and their sizes */
+static void CellBoxes(const PSSolver *S, PetscInt nc[3], PetscInt clo[3], PetscInt chi[3], PetscInt nn[3], PetscInt nlo[3], PetscInt nhi[3])
+{
+  const PSCells *C = S->cells;
+  PSIndex        ix;
+  PetscInt       d;
+  (void)PSGridIndex(S->da, &ix);
+  for (d = 0; d < 3; d++) {
+    nc[d]  = C->nc[d];
+    clo[d] = C->cs[d];
+    chi[d] = C->ce[d];
+    nn[d]  = d < S->dim ? C->nc[d] + 1 : 1;
+    nlo[d] = d < S->dim ? PetscMax(ix.os[d] - PS_PAD, 0) : 0;
+    nhi[d] = d < S->dim ? PetscMin(ix.os[d] + ix.om[d] - PS_PAD, nn[d]) : 1;
+  }
+}
+
+/* copy between the owned cells (or physical nodes) and a contiguous buffer */
+static void CellsPack(PSSolver *S, PetscReal *cb, PetscReal *nb, PetscBool pack)
+{
+  PSCells *C = S->cells;
+  PetscInt nc[3], clo[3], chi[3], nn[3], nlo[3], nhi[3], i, j, k, n = 0;
+  PSIndex  ix;
+  (void)PSGridIndex(S->da, &ix);
+  CellBoxes(S, nc, clo, chi, nn, nlo, nhi);
+  for (k = clo[2]; k < chi[2]; k++)
+    for (j = clo[1]; j < chi[1]; j++)
+      for (i = clo[0]; i < chi[0]; i++, n++) {
+        PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        if (pack) memcpy(&cb[n * C->dof], u, C->dof * sizeof(PetscReal));
+        else memcpy(u, &cb[n * C->dof], C->dof * sizeof(PetscReal));
+      }
+  n = 0;
+  for (k = nlo[2]; k < nhi[2]; k++)
+    for (j = nlo[1]; j < nhi[1]; j++)
+      for (i = nlo[0]; i < nhi[0]; i++, n++) {
+        PetscReal *P = &C->P[S->dim * Lidx(&ix, i + PS_PAD, j + PS_PAD, S->dim == 3 ? k + PS_PAD : 0)];
+        if (pack) memcpy(&nb[n * S->dim], P, S->dim * sizeof(PetscReal));
+        else memcpy(P, &nb[n * S->dim], S->dim * sizeof(PetscReal));
+      }
+}
+
+/* /cells: the Eulerian cells' state, their nodal momentum, books, sweep order */
+static PetscErrorCode WriteCells(PSSolver *S, PSCkptWriter *w, hid_t grp)
+{
+  PSCells  *C = S->cells;
+  PetscInt  nc[3], clo[3], chi[3], nn[3], nlo[3], nhi[3];
+  PetscReal *cb, *nb, row[2] = {C->remap_heat, C->coupling_work}, sweep = (PetscReal)C->sweep0;
+
+  PetscFunctionBeginUser;
+  CellBoxes(S, nc, clo, chi, nn, nlo, nhi);
+  PetscCall(PetscMalloc2(PetscMax(1, (chi[0] - clo[0]) * (chi[1] - clo[1]) * (chi[2] - clo[2]) * C->dof), &cb, PetscMax(1, (nhi[0] - nlo[0]) * (nhi[1] - nlo[1]) * (nhi[2] - nlo[2]) * S->dim), &nb));
+  CellsPack(S, cb, nb, PETSC_TRUE);
+  PetscCall(BoxTable(w, grp, "cells", "state", nc, clo, chi, C->dof, cb, PETSC_TRUE));
+  PetscCall(BoxTable(w, grp, "cells", "momentum", nn, nlo, nhi, S->dim, nb, PETSC_TRUE));
+  PetscCall(PetscFree2(cb, nb));
+  PetscCall(WriteTable(w, grp, "cells", "ranks", PETSC_REAL, row, 1, 2, w->rank, w->size));
+  PetscCall(WriteShared(w, grp, "cells", "sweep", PETSC_REAL, &sweep, 1));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -257,7 +387,12 @@ static PetscErrorCode Checkpoint(PSSolver *S, const char filename[])
   H5CHK(grp, "/run");
   PetscCall(WriteSchedule(S, &w, grp));
   H5Gclose(grp);
-  /* (Eulerian cell data: a group and a writer of its own here) */
+  if (S->cells) {
+    grp = H5Gcreate2(w.file, "/cells", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5CHK(grp, "/cells");
+    PetscCall(WriteCells(S, &w, grp));
+    H5Gclose(grp);
+  }
   PetscCall(WriteAttr(w.file, "complete", H5T_NATIVE_INT, 1, &complete)); /* last: everything above is in */
   H5CHK(H5Fclose(w.file), "H5Fclose");
   PetscCallMPI(MPI_Barrier(w.comm));
@@ -324,7 +459,7 @@ static PetscBool TableShape(hid_t file, const char *path, PetscDataType type, Pe
   rk = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
   if (rk >= 1 && rk <= 2) H5Sget_simple_extent_dims(sp, d, NULL);
   ty = H5Dget_type(ds);
-  if (rk != (bs ? 2 : 1) || (bs && d[1] != (hsize_t)bs) || (N >= 0 && d[0] != (hsize_t)N)) {
+  if (rk != (bs ? 2 : 1) || (bs > 0 && d[1] != (hsize_t)bs) || (N >= 0 && d[0] != (hsize_t)N)) { /* bs < 0: any block size */
     snprintf(msg, len, "dataset %s has shape %llu x %llu, expected %lld x %d: was it written for this deck?", path, (unsigned long long)d[0], (unsigned long long)(rk == 2 ? d[1] : 1), (long long)N, (int)PetscMax(bs, 1));
     ok = PETSC_FALSE;
   } else if (ty < 0 || H5Tget_class(ty) != (type == PETSC_REAL ? H5T_FLOAT : H5T_INTEGER) || H5Tget_size(ty) != H5Tget_size(H5Type(type))) {
@@ -501,6 +636,32 @@ static PetscErrorCode VerifyLayout(const PSScene *scene, hid_t file, PSCkptTable
     if (!TableShape(file, "/run/gauges", PETSC_INT64, -1, 0, &ng, msg, len)) PetscFunctionReturn(PETSC_SUCCESS);
     PetscCall(PetscSNPrintf(t[ns].path, sizeof(t[ns].path), "/run/gauges"));
     t[ns].type = PETSC_INT64, t[ns].N = ng, t[ns].bs = 0, ns++;
+  }
+  /* the Eulerian cells' tables */
+  if (scene->ncellmat > 0) {
+    const PetscInt ncell = scene->cells[0] * scene->cells[1] * (scene->dim == 3 ? scene->cells[2] : 1);
+    const PetscInt nnode = (scene->cells[0] + 1) * (scene->cells[1] + 1) * (scene->dim == 3 ? scene->cells[2] + 1 : 1);
+    PetscInt64     Nc = 0, Rr = 0;
+    if (!TableShape(file, "/cells/state", PETSC_REAL, ncell, -1, &Nc, msg, len)) PetscFunctionReturn(PETSC_SUCCESS);
+    PetscCall(PetscSNPrintf(t[ns].path, sizeof(t[ns].path), "/cells/state"));
+    {
+      hid_t   ds = H5Dopen2(file, "/cells/state", H5P_DEFAULT), sp = H5Dget_space(ds);
+      hsize_t dd[2] = {0, 0};
+      H5Sget_simple_extent_dims(sp, dd, NULL);
+      H5Sclose(sp);
+      H5Dclose(ds);
+      t[ns].type = PETSC_REAL, t[ns].N = ncell, t[ns].bs = (PetscInt)dd[1], ns++;
+    }
+    if (!TableShape(file, "/cells/momentum", PETSC_REAL, nnode, scene->dim, NULL, msg, len)) PetscFunctionReturn(PETSC_SUCCESS);
+    PetscCall(PetscSNPrintf(t[ns].path, sizeof(t[ns].path), "/cells/momentum"));
+    t[ns].type = PETSC_REAL, t[ns].N = nnode, t[ns].bs = scene->dim, ns++;
+    if (!TableShape(file, "/cells/ranks", PETSC_REAL, -1, 2, &Rr, msg, len)) PetscFunctionReturn(PETSC_SUCCESS);
+    PetscCall(PetscSNPrintf(t[ns].path, sizeof(t[ns].path), "/cells/ranks"));
+    t[ns].type = PETSC_REAL, t[ns].N = Rr, t[ns].bs = 2, ns++;
+    if (!TableShape(file, "/cells/sweep", PETSC_REAL, 1, 0, NULL, msg, len)) PetscFunctionReturn(PETSC_SUCCESS);
+    PetscCall(PetscSNPrintf(t[ns].path, sizeof(t[ns].path), "/cells/sweep"));
+    t[ns].type = PETSC_REAL, t[ns].N = 1, t[ns].bs = 0, ns++;
+    (void)Nc;
   }
   for (f = 0; f < ns; f++) {
     uint64_t c;
@@ -705,6 +866,46 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
     PetscCall(PetscFree(ids));
   }
   H5Gclose(grp);
+  if (S->cells) {
+    PSCells  *C = S->cells;
+    PetscInt  nc[3], clo[3], chi[3], nn[3], nlo[3], nhi[3], R;
+    PetscReal *cb, *nb, *books, sweep;
+    PSCkptWriter w;
+    PSIndex      ix;
+    w.comm = comm;
+    w.rank = rank;
+    w.size = size;
+    grp    = H5Gopen2(file, "/cells", H5P_DEFAULT);
+    PetscCheck(grp >= 0, comm, PS_ERR_RUN, "checkpoint %s has no /cells group: was it written for this deck?", filename);
+    CellBoxes(S, nc, clo, chi, nn, nlo, nhi);
+    PetscCall(PetscMalloc2(PetscMax(1, (chi[0] - clo[0]) * (chi[1] - clo[1]) * (chi[2] - clo[2]) * C->dof), &cb, PetscMax(1, (nhi[0] - nlo[0]) * (nhi[1] - nlo[1]) * (nhi[2] - nlo[2]) * S->dim), &nb));
+    PetscCall(BoxTable(&w, grp, "cells", "state", nc, clo, chi, C->dof, cb, PETSC_FALSE));
+    PetscCall(BoxTable(&w, grp, "cells", "momentum", nn, nlo, nhi, S->dim, nb, PETSC_FALSE));
+    PetscCall(PetscArrayzero(C->P, C->nnl * S->dim));
+    CellsPack(S, cb, nb, PETSC_FALSE);
+    PetscCall(PetscFree2(cb, nb));
+    R = (PetscInt)Rows(grp, "ranks");
+    PetscCall(PetscMalloc1(2 * PetscMax(R, 1), &books));
+    PetscCall(ReadAll(grp, "ranks", H5T_NATIVE_DOUBLE, books));
+    C->remap_heat = C->coupling_work = 0.0;
+    if (R == size) {
+      C->remap_heat    = books[2 * rank];
+      C->coupling_work = books[2 * rank + 1];
+    } else if (!rank)
+      for (r = 0; r < R; r++) {
+        C->remap_heat += books[2 * r];
+        C->coupling_work += books[2 * r + 1];
+      }
+    PetscCall(PetscFree(books));
+    PetscCall(ReadAll(grp, "sweep", H5T_NATIVE_DOUBLE, &sweep));
+    C->sweep0 = (PetscInt)sweep;
+    H5Gclose(grp);
+    /* ghosts, nodal masses */
+    PetscCall(PSHaloBcast(C->sfp, C->P));
+    PetscCall(PSCellsExchange(C));
+    PetscCall(PSGridIndex(S->da, &ix));
+    PetscCall(PSCellsNodalMass(S, &ix));
+  }
   H5Fclose(file);
   S->t            = state[0];
   S->dt           = state[1];

@@ -5,10 +5,16 @@
 
   OUTDIR/markers_NNNNN.h5   markers (io.c schema + state), root attribute time
   OUTDIR/grid_NNNNN.h5      /grid/mass, /grid/velocity_x|y|z (natural DMDA order,
-                            PS_PAD nodes outside the domain on each side)
+                            PS_PAD nodes outside the domain on each side); with cell
+                            materials /cells/volume_fraction (ny, nx, nmat; attribute
+                            materials), density, pressure, velocity (ny, nx, dim),
+                            specific_energy, cell-centred (cells/cells.c)
   OUTDIR/history.csv        step, time, dt, markers, mass, px, py[, pz], kinetic,
                             internal, total (= kinetic + internal + lost_energy),
-                            lost_mass, lost_energy, max_pressure (0 once no marker is left)
+                            lost_mass, lost_energy, max_pressure (0 once nothing is
+                            left), of markers and cell materials together; with cell
+                            materials also remap_heat and coupling_work (J, cumulative,
+                            both included in internal)
   OUTDIR/bodies.csv         time, body, mass, px, py[, pz], kinetic, vx, vy[, vz]
   OUTDIR/gauges.csv         time, gauge, marker id, present, position, velocity, pressure,
                             Cauchy stress (Pa, tension positive) of the marker each gauge follows
@@ -33,6 +39,7 @@
 #include <petscviewerhdf5.h>
 #include <petsctime.h>
 #include "step.h"
+#include "cells/cells.h"
 
 typedef struct {
   const char        *outdir;
@@ -72,6 +79,7 @@ static PetscErrorCode WriteGrid(PSSolver *S, PSRunIO *io, const char *fn)
     PetscCall(VecView(io->out1, v));
   }
   PetscCall(PetscViewerHDF5PopGroup(v));
+  if (S->cells) PetscCall(PSCellsWrite(S, v, io->material_names)); /* /cells: the Eulerian cell fields */
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "time", PETSC_REAL, &S->t));
   PetscCall(PetscViewerDestroy(&v));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -105,7 +113,7 @@ static PetscErrorCode History(PSSolver *S, PSRunIO *io)
   io->hstep = S->step;
   PetscCall(PSSolverTotals(S, &T));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (!T.markers && !io->warned_empty) {
+  if (!T.markers && T.mass == 0.0 && !io->warned_empty) { /* nothing left: no marker, no cell material */
     io->warned_empty = PETSC_TRUE;
     PetscCall(PetscPrintf(comm, "warning: no marker is left in the grid at t = %g s (step %" PetscInt_FMT "): %lld markers, %g kg%s and %g J left through free faces and are booked as lost (history.csv); the run goes on, empty, to t_end\n",
                           (double)S->t, S->step, (long long)T.lost_markers, (double)T.lost_mass, dim == 2 ? "/m" : "", (double)T.lost_energy));
@@ -113,7 +121,9 @@ static PetscErrorCode History(PSSolver *S, PSRunIO *io)
   if (!rank && io->hist) {
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, "%" PetscInt_FMT ",%.10e,%.6e,%lld,%.12e,%.12e,%.12e", S->step, (double)S->t, (double)S->dt, (long long)T.markers, (double)T.mass, (double)T.p[0], (double)T.p[1]));
     if (dim == 3) PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e", (double)T.p[2]));
-    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.6e\n", (double)T.kinetic, (double)T.internal, (double)(T.kinetic + T.internal + T.lost_energy), (double)T.lost_mass, (double)T.lost_energy, (double)T.max_pressure));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.6e", (double)T.kinetic, (double)T.internal, (double)(T.kinetic + T.internal + T.lost_energy), (double)T.lost_mass, (double)T.lost_energy, (double)T.max_pressure));
+    if (S->cells) PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e,%.12e", (double)T.remap_heat, (double)T.coupling_work));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, "\n"));
   }
   /* per body: mass, momentum, kinetic energy */
   PetscCall(PetscCalloc2(nb * 5, &loc, nb * 5, &glob));
@@ -272,7 +282,7 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
   PetscCall(DMDACreateCompatibleDMDA(S->da, 1, &io.da1));
   PetscCall(DMCreateGlobalVector(io.da1, &io.out1));
   if (!rank) {
-    PetscCall(PetscSNPrintf(head, sizeof(head), "step,time,dt,markers,mass,px,py%s,kinetic,internal,total,lost_mass,lost_energy,max_pressure\n", dim == 3 ? ",pz" : ""));
+    PetscCall(PetscSNPrintf(head, sizeof(head), "step,time,dt,markers,mass,px,py%s,kinetic,internal,total,lost_mass,lost_energy,max_pressure%s\n", dim == 3 ? ",pz" : "", S->cells ? ",remap_heat,coupling_work" : ""));
     PetscCall(OpenCSV(S, outdir, "history.csv", head, &io.hist));
     PetscCall(PetscSNPrintf(head, sizeof(head), "time,body,mass,px,py%s,kinetic,vx,vy%s\n", dim == 3 ? ",pz" : "", dim == 3 ? ",vz" : ""));
     PetscCall(OpenCSV(S, outdir, "bodies.csv", head, &io.bodies));

@@ -104,14 +104,49 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
   for (d = 0; d < S->dim; d++) S->ncell *= S->ce[d] - S->cs[d];
   S->zall = PETSC_TRUE;
   if (S->run.fbar) PetscCall(PetscMalloc2(PetscMax(S->ncell, 1), &S->cell_V, PetscMax(S->ncell, 1), &S->cell_trL));
-  /* Eulerian cells: their arrays only in a scene with bodies in cells; the
-     fresh state (a restart replaces it) */
-  if (scene->ncellmat > 0) {
-    PetscCall(PSCellsCreate(S, S->mat));
+  /* Eulerian cells: their arrays only in a scene with bodies in cells */
+  if (scene->ncellmat > 0) PetscCall(PSCellsCreate(S, S->mat));
+  *out = S;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The initial state of a fresh run (a restart reads its own instead): the
+   bodies in cells inserted, and markers of bodies with an initial pressure
+   given the energy e0 = (p - A)/B of their EOS p = A + B e at J = 1. */
+PetscErrorCode PSSolverInitialState(PSSolver *S)
+{
+  const PSScene *scene = S->scene;
+  PetscInt       n, p, *body, *mat;
+  PetscReal     *e, *pr;
+  PetscBool      any = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (S->cells) {
     PetscCall(PSCellsInsert(S));
     PetscCall(PSCellsFitMarkers(S));
   }
-  *out = S;
+  for (p = 0; p < scene->nbody; p++)
+    if (scene->bodies[p].cellmat < 0 && scene->bodies[p].pressure != 0.0) any = PETSC_TRUE;
+  if (!any) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(DMSwarmGetLocalSize(S->sw, &n));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&e));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
+  for (p = 0; p < n; p++) {
+    const PetscReal   p0 = scene->bodies[body[p]].pressure;
+    const PSMaterial *M  = &S->mat[mat[p]];
+    PetscReal         A, B, c2;
+    if (p0 == 0.0) continue;
+    PetscCall(M->eos_fn(M, 1.0, p0, 0.0, &A, &B, &c2));
+    PetscCheck(B > 0.0, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "body %" PetscInt_FMT ": its material's EOS has no energy term to reach the initial pressure %g Pa", body[p], (double)p0);
+    e[p]  = (p0 - A) / B;
+    pr[p] = p0;
+  }
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&e));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -211,6 +211,7 @@ typedef struct {
 
 PETSC_EXTERN PetscErrorCode PSSolverCreate(const PSScene *, DM da, DM sw, const PSRunParams *, const PSMaterial *, const PetscInt bc[6], PSSolver **);
 PETSC_EXTERN PetscErrorCode PSSolverDestroy(PSSolver **);
+PETSC_EXTERN PetscErrorCode PSSolverInitialState(PSSolver *);
 PETSC_EXTERN PetscErrorCode PSRunParamsRead(MPI_Comm, PSRunParams *);
 PETSC_EXTERN PetscErrorCode PSRunParamsCheck(const PSRunParams *, const char **key, char msg[], size_t len);
 PETSC_EXTERN PetscErrorCode PSRunParamsSetFromOptions(MPI_Comm, PSRunParams *);

@@ -134,6 +134,7 @@ cdef extern from "solver.h":
         PetscBool restarted
     PetscErrorCode PSSolverCreate(const PSScene *, PetscDM, PetscDM, const PSRunParams *, const PSMaterial *, const PetscInt *, PSSolver **)
     PetscErrorCode PSSolverDestroy(PSSolver **)
+    PetscErrorCode PSSolverInitialState(PSSolver *)
     PetscErrorCode PSRunParamsRead(MPI_Comm, PSRunParams *)
     PetscErrorCode PSRunParamsCheck(const PSRunParams *, const char **, char *, size_t)
     PetscErrorCode PSSolverMaxSpeed(PSSolver *)
@@ -457,6 +458,10 @@ cdef class Solver:
         if self.S.step == 0 and self.S.dt == 0:
             CHK(PSSolverMaxSpeed(self.S))
         CHK(PSSolverStep(self.S, self.r.t_end if t_stop is None else t_stop))
+
+    def initial_state(self):
+        """A fresh run's state: bodies in cells, markers' initial pressures."""
+        CHK(PSSolverInitialState(self.S))
 
     def set_gauges(self, ids):
         cdef PetscInt64[::1] a = np.ascontiguousarray(ids, dtype=np.int64)

@@ -552,6 +552,8 @@ def make_solver(m, restart=None, verified=False):
     faces = ["x-", "x+", "y-", "y+", "z-", "z+"][: 2 * scene.dimension]
     bc = [BC_CODE[scene.grid.boundary[f]] for f in faces] + [0] * (6 - len(faces))
     S = _core.Solver(m.cs, m.da, m.sw, params, mats, bc)
+    if not restart:
+        S.initial_state()      # bodies in cells; markers' initial pressures
     if scene.gauges and not restart:
         S.set_gauges(gauge_markers(m, [g["point"] for g in scene.gauges]))
     if restart:
@@ -644,4 +646,57 @@ def write_xdmf_series(outdir, dim, scene):
     text = ('<?xml version="1.0" ?>\n<Xdmf Version="2.0">\n <Domain>\n  <Grid Name="series" GridType="Collection" CollectionType="Temporal">\n'
             + "\n".join(grids) + "\n  </Grid>\n </Domain>\n</Xdmf>\n")
     with open(os.path.join(outdir, "markers.xdmf"), "w") as f:
+        f.write(text)
+    if scene.cell_materials:
+        write_cells_xdmf(outdir, scene)
+
+
+def write_cells_xdmf(outdir, scene):
+    """cells.xdmf: the time series of the grid files' /cells fields, cell-centred
+    on the grid (a CoRectMesh), one scalar per material's volume fraction and
+    per velocity component, for ParaView."""
+    import glob
+    import h5py
+    g, dim = scene.grid, scene.dimension
+    shape = list(reversed(g.cells))                      # nz ny nx, slowest first
+    nodes = " ".join(str(n + 1) for n in shape)
+    origin = " ".join(repr(float(v)) for v in reversed(g.lower))
+    spacing = " ".join(repr(float(v)) for v in reversed(g.h))
+    mats = [scene.materials[i].name for i in scene.cell_materials]
+    cdims = " ".join(map(str, shape))
+
+    def slab(name, path, k, n):
+        start = " ".join(["0"] * dim + [str(k)])
+        stride = " ".join(["1"] * (dim + 1))
+        count = " ".join(map(str, shape + [1]))
+        return (f'<DataItem ItemType="HyperSlab" Dimensions="{cdims}" Type="HyperSlab">'
+                f'<DataItem Dimensions="3 {dim + 1}" Format="XML">{start} {stride} {count}</DataItem>'
+                f'<DataItem Dimensions="{cdims} {n}" NumberType="Float" Precision="8" Format="HDF">{name}:{path}</DataItem></DataItem>')
+
+    grids = []
+    for fn in sorted(glob.glob(os.path.join(outdir, "grid_*.h5"))):
+        name = os.path.basename(fn)
+        with h5py.File(fn, "r") as f:
+            if "cells" not in f:
+                continue
+            t = float(f.attrs["time"])
+        attrs = [f'<Attribute Name="volume_fraction_{m}" AttributeType="Scalar" Center="Cell">{slab(name, "/cells/volume_fraction", k, len(mats))}</Attribute>'
+                 for k, m in enumerate(mats)]
+        for q in ("density", "pressure", "specific_energy"):
+            attrs.append(f'<Attribute Name="{q}" AttributeType="Scalar" Center="Cell"><DataItem Dimensions="{cdims}" NumberType="Float" '
+                         f'Precision="8" Format="HDF">{name}:/cells/{q}</DataItem></Attribute>')
+        attrs += [f'<Attribute Name="velocity_{"xyz"[k]}" AttributeType="Scalar" Center="Cell">{slab(name, "/cells/velocity", k, dim)}</Attribute>'
+                  for k in range(dim)]
+        grids.append(f'''   <Grid Name="cells" GridType="Uniform">
+    <Time Value="{t!r}"/>
+    <Topology TopologyType="{dim}DCoRectMesh" Dimensions="{nodes}"/>
+    <Geometry GeometryType="{'ORIGIN_DXDY' if dim == 2 else 'ORIGIN_DXDYDZ'}">
+     <DataItem Dimensions="{dim}" Format="XML">{origin}</DataItem>
+     <DataItem Dimensions="{dim}" Format="XML">{spacing}</DataItem>
+    </Geometry>
+    {chr(10).join('    ' + a for a in attrs)}
+   </Grid>''')
+    text = ('<?xml version="1.0" ?>\n<Xdmf Version="2.0">\n <Domain>\n  <Grid Name="series" GridType="Collection" CollectionType="Temporal">\n'
+            + "\n".join(grids) + "\n  </Grid>\n </Domain>\n</Xdmf>\n")
+    with open(os.path.join(outdir, "cells.xdmf"), "w") as f:
         f.write(text)

@@ -10,6 +10,7 @@
   the initial density.  The body's velocity gives the nodal momentum: each
   cell sends M_c v / 2^dim to each of its corners.
 */
+#include <petscviewerhdf5.h>
 #include "cells.h"
 #include "../geom.h"
 
@@ -335,5 +336,89 @@ PetscErrorCode PSSolverCellNodesGet(PSSolver *S, PetscInt ns[3], PetscInt nm[3],
         out[n * (1 + S->dim)] = C->mcn[o];
         for (d = 0; d < S->dim; d++) out[n * (1 + S->dim) + 1 + d] = C->P[S->dim * o + d];
       }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* /cells in a grid file (the viewer is open on it): volume_fraction (ny, nx,
+   nmat) with the attribute materials (their names, deck order), density
+   (kg/m^3: cell-material mass / cell volume), pressure (Pa, weighted by
+   volume fraction), velocity (ny, nx, dim; the mean of the corners' cell
+   velocity P^C / m^C), specific_energy (J/kg); 3D with nz first. */
+PetscErrorCode PSCellsWrite(PSSolver *S, PetscViewer v, const char *const material_names[])
+{
+  PSCells       *C = S->cells;
+  const PetscInt dim = S->dim, nco = 1 << dim;
+  DM             dm[3];
+  Vec            X[5];
+  PetscReal     *a[5];
+  const char    *names[5] = {"volume_fraction", "density", "pressure", "velocity", "specific_energy"};
+  const PetscInt dofs[5]  = {C->nmat, 1, 1, dim, 1};
+  PetscInt       i, j, k, m, d, c, n = 0, f;
+  PSIndex        ix;
+
+  PetscFunctionBeginUser;
+  PetscCall(PSGridIndex(S->da, &ix));
+  PetscCall(DMDACreateCompatibleDMDA(C->dac, C->nmat, &dm[0]));
+  PetscCall(DMDACreateCompatibleDMDA(C->dac, 1, &dm[1]));
+  PetscCall(DMDACreateCompatibleDMDA(C->dac, dim, &dm[2]));
+  for (f = 0; f < 5; f++) {
+    PetscCall(DMCreateGlobalVector(dofs[f] == C->nmat && f == 0 ? dm[0] : dofs[f] == dim && f == 3 ? dm[2] : dm[1], &X[f]));
+    PetscCall(PetscObjectSetName((PetscObject)X[f], names[f]));
+    PetscCall(VecGetArray(X[f], &a[f]));
+  }
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        PetscReal        Mc = 0.0, Ec = 0.0, pc = 0.0;
+        for (m = 0; m < C->nmat; m++) {
+          const PetscReal *blk = &u[m * C->ms];
+          PetscReal        p, cs;
+          a[0][n * C->nmat + m] = blk[PS_CV] / C->Vc;
+          Mc += blk[PS_CM];
+          Ec += blk[PS_CE];
+          PetscCall(PSCellsPressure(S, m, blk, &p, &cs));
+          pc += blk[PS_CV] / C->Vc * p;
+        }
+        a[1][n] = Mc / C->Vc;
+        a[2][n] = pc;
+        a[4][n] = Mc > 0.0 ? Ec / Mc : 0.0;
+        for (d = 0; d < dim; d++) a[3][n * dim + d] = 0.0;
+        for (c = 0; c < nco; c++) {
+          const PetscInt o = Lidx(&ix, i + PS_PAD + (c & 1), j + PS_PAD + ((c >> 1) & 1), dim == 3 ? k + PS_PAD + ((c >> 2) & 1) : 0);
+          for (d = 0; d < dim; d++) a[3][n * dim + d] += C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] / nco : 0.0;
+        }
+      }
+  PetscCall(PetscViewerHDF5PushGroup(v, "/cells"));
+  for (f = 0; f < 5; f++) {
+    PetscCall(VecRestoreArray(X[f], &a[f]));
+    /* volume_fraction keeps its material axis even with one material */
+    if (f == 0) PetscCall(PetscViewerHDF5SetBaseDimension2(v, PETSC_TRUE));
+    PetscCall(VecView(X[f], v));
+    if (f == 0) PetscCall(PetscViewerHDF5SetBaseDimension2(v, PETSC_FALSE));
+    PetscCall(VecDestroy(&X[f]));
+  }
+  PetscCall(PetscViewerHDF5PopGroup(v));
+  /* the materials' names on volume_fraction, a string array (collective) */
+  {
+    hid_t       fid, ds, sp, ty, at;
+    hsize_t     nm = (hsize_t)C->nmat;
+    const char *nmz[PS_MAX_CELLMAT];
+    for (m = 0; m < C->nmat; m++) nmz[m] = material_names ? material_names[C->mat[m]] : "";
+    PetscCall(PetscViewerHDF5GetFileId(v, &fid));
+    ds = H5Dopen2(fid, "/cells/volume_fraction", H5P_DEFAULT);
+    PetscCheck(ds >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "cannot open /cells/volume_fraction");
+    ty = H5Tcopy(H5T_C_S1);
+    H5Tset_size(ty, H5T_VARIABLE);
+    sp = H5Screate_simple(1, &nm, NULL);
+    at = H5Acreate2(ds, "materials", ty, sp, H5P_DEFAULT, H5P_DEFAULT);
+    PetscCheck(at >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "cannot write the attribute materials");
+    PetscCheck(H5Awrite(at, ty, nmz) >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "cannot write the attribute materials");
+    H5Aclose(at);
+    H5Sclose(sp);
+    H5Tclose(ty);
+    H5Dclose(ds);
+  }
+  for (f = 0; f < 3; f++) PetscCall(DMDestroy(&dm[f]));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -48,7 +48,13 @@ static inline PetscInt Hourglass(PetscInt dim, const PetscReal s[3], PetscReal G
   return 4;
 }
 
-/* mixture values of a cell: material mass and volume, largest sound speed */
+/* mixture values of a cell: material mass and volume, and its signal speed:
+   the largest sound speed among the materials that hold at least PS_TRACE
+   of the materials' volume (a trace left by the remap next to an interface
+   has no say in the time step, the viscosity or the hourglass force: its
+   state is relaxed by the closure, and letting it decide made the time step
+   follow round-off) */
+#define PS_TRACE 1e-4
 static PetscErrorCode CellMix(const PSSolver *S, const PetscReal *u, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
 {
   const PSCells *C = S->cells;
@@ -57,11 +63,13 @@ static PetscErrorCode CellMix(const PSSolver *S, const PetscReal *u, PetscReal *
   PetscFunctionBeginUser;
   *Mc = *Vm = *cmax = 0.0;
   for (m = 0; m < C->nmat; m++) {
+    *Mc += PetscMax(u[m * C->ms + PS_CM], 0.0);
+    *Vm += PetscMax(u[m * C->ms + PS_CV], 0.0);
+  }
+  for (m = 0; m < C->nmat; m++) {
     const PetscReal *blk = &u[m * C->ms];
     PetscReal        p, c;
-    if (blk[PS_CM] <= 0.0) continue;
-    *Mc += blk[PS_CM];
-    *Vm += blk[PS_CV];
+    if (blk[PS_CM] <= 0.0 || blk[PS_CV] < PS_TRACE * *Vm) continue;
     PetscCall(PSCellsPressure(S, m, blk, &p, &c));
     *cmax = PetscMax(*cmax, c);
   }
@@ -269,19 +277,11 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
         trD = L[0][0] + L[1][1] + L[2][2];
         dV  = C->Vc * dt * trD;
         u[C->nmat * C->ms + PS_CX_V] = C->Vc + dV;
-        for (m = 0; m < C->nmat; m++) {
-          Mc += u[m * C->ms + PS_CM];
-          Vm += u[m * C->ms + PS_CV];
-        }
+        PetscCall(CellMix(S, u, &Mc, &Vm, &cmax));
         if (Mc <= 0.0) continue;
         PetscCall(PSCellsShareVolume(S, u, dV, dVk));
         /* artificial viscosity of the cell (compression only), for this step's
            energy and the next step's force */
-        for (m = 0; m < C->nmat; m++) {
-          PetscReal p, c;
-          PetscCall(PSCellsPressure(S, m, &u[m * C->ms], &p, &c));
-          cmax = PetscMax(cmax, c);
-        }
         rho                        = Mc / Vm;
         q                          = PSViscosity(rho, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
         u[C->nmat * C->ms + PS_CX_Q] = q;
