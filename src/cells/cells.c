@@ -71,6 +71,8 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   }
   PetscCall(PetscCalloc2(C->ncl * C->dof, &C->u, C->ncl * C->dof, &C->un));
   PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, C->dof, &C->sfu));
+  PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, 2, &C->sfd));
+  PetscCall(PetscCalloc1(2 * C->ncl, &C->dep));
   /* the cells without ghosts: the same ownership, for HDF5 output and checkpoints */
   for (d = 0; d < 3; d++) {
     PetscInt r;
@@ -98,6 +100,8 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree2((*C)->u, (*C)->un));
   PetscCall(PetscFree4((*C)->P, (*C)->Pn, (*C)->mcn, (*C)->vh));
   PetscCall(PetscSFDestroy(&(*C)->sfu));
+  PetscCall(PetscSFDestroy(&(*C)->sfd));
+  PetscCall(PetscFree((*C)->dep));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));
   PetscCall(PetscFree((*C)->Kmat));

@@ -55,6 +55,8 @@ typedef struct PSCells_ {
   PetscReal *u;                   /* the ghosted cell array, ncl x dof */
   PetscReal *un;                  /* scratch of the same size (a sweep's new state) */
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
+  PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance */
+  PetscSF   sfd;                  /* its ghost sums (halo.c) */
   DM        dac;                  /* cells without ghosts, dof reals (output, checkpoint) */
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
   PetscReal *Pn;                  /* scratch of the same size */
@@ -67,6 +69,7 @@ typedef struct PSCells_ {
   PetscInt  sweep0;               /* first sweep direction of the next remap (alternates) */
   PetscReal remap_heat;           /* this rank: kinetic energy the remap put into internal energy (J) */
   PetscReal coupling_work;        /* this rank: work of fitting cell materials around the markers (J) */
+  PetscReal discarded;            /* this rank: mass of traces discarded by the remap (kg; booked in lost_mass) */
   PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */
 } PSCells;

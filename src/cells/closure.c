@@ -68,7 +68,10 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
     rest += take;
     V0 -= take;
   }
-  for (m = 0; m < C->nmat; m++) dVk[m] = sumchi > 0.0 ? rest * chi[m] / (sumchi + chiM) : 0.0;
+  /* (a material gives up at most half its volume in one step: a trace of gas
+     against a stiff marker would otherwise be asked for more than it has; the
+     markers' part takes the rest) */
+  for (m = 0; m < C->nmat; m++) dVk[m] = sumchi > 0.0 ? PetscMax(rest * chi[m] / (sumchi + chiM), -0.5 * u[m * C->ms + PS_CV]) : 0.0;
   /* 2. relaxation toward p* (p* = 0 with void) */
   hasvoid = V0 > 1e-12 * C->Vc ? PETSC_TRUE : PETSC_FALSE;
   if (!hasvoid) {
@@ -93,38 +96,64 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* markers' volume and compliance into their cells (owned: a marker's cell is
-   its rank's), then the cell materials fitted beside them */
+/* Markers' volume and compliance into the cells, each marker as a box of
+   its volume centred on it (V_p^(1/dim) a side; the boxes tile a body as
+   inserted) shared among the cells it overlaps, so a body's share of a cell
+   grows smoothly as it moves in; boxes reaching a neighbour's cells are summed
+   by the ghost exchange.  Then the cell materials are fitted beside them. */
 PetscErrorCode PSCellsFitMarkers(PSSolver *S)
 {
   PSCells        *C   = S->cells;
   const PetscInt  dim = S->dim;
-  PetscInt        n, p, d, i, j, k, m, *mat;
-  PetscReal      *x, *vol;
+  PetscInt        n, p, d, i, j, k, m, *mat, c;
+  PetscReal      *x, *vol, *dep = C->dep;
   PSIndex         ix;
 
   PetscFunctionBeginUser;
-  for (k = C->cs[2]; k < C->ce[2]; k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++) {
-        PetscReal *x_ = &C->u[C->dof * PSCellIdx(C, i, j, k) + C->nmat * C->ms];
-        x_[PS_CX_AM] = x_[PS_CX_CM] = 0.0;
-      }
+  PetscCall(PetscArrayzero(dep, 2 * C->ncl));
   PetscCall(DMSwarmGetLocalSize(S->sw, &n));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
   for (p = 0; p < n; p++) {
-    PetscInt   c[3] = {0, 0, 0};
-    PetscReal *x_;
-    for (d = 0; d < dim; d++) c[d] = PetscMin(PetscMax((PetscInt)PetscFloorReal((x[p * dim + d] - S->scene->lower[d]) * S->ih[d]), C->cs[d]), C->ce[d] - 1);
-    x_ = &C->u[C->dof * PSCellIdx(C, c[0], c[1], c[2]) + C->nmat * C->ms];
-    x_[PS_CX_AM] += vol[p] / C->Vc;
-    x_[PS_CX_CM] += vol[p] / C->Kmat[mat[p]];
+    const PetscReal a = dim == 3 ? PetscCbrtReal(vol[p]) : PetscSqrtReal(vol[p]);
+    PetscInt        c0[3] = {0, 0, 0};
+    PetscReal       w[3][2] = {{1, 0}, {1, 0}, {1, 0}};
+    /* per direction: the two cells the box can overlap and its share in each */
+    for (d = 0; d < dim; d++) {
+      const PetscReal lo = (x[p * dim + d] - 0.5 * a - S->scene->lower[d]) * S->ih[d], hi = lo + a * S->ih[d];
+      const PetscReal f  = PetscFloorReal(lo);
+      c0[d]   = (PetscInt)f;
+      w[d][1] = hi > f + 1.0 ? (hi - (f + 1.0)) / (hi - lo) : 0.0;
+      w[d][0] = 1.0 - w[d][1];
+    }
+    for (c = 0; c < (1 << dim); c++) {
+      PetscInt  cc[3] = {0, 0, 0}, o;
+      PetscReal share = 1.0;
+      for (d = 0; d < dim; d++) {
+        const PetscInt b = (c >> d) & 1;
+        share *= w[d][b];
+        /* clipped to the domain and the ghosted box (a box reaches one cell out) */
+        cc[d] = PetscMin(PetscMax(c0[d] + b, PetscMax(C->gs[d], 0)), PetscMin(C->gs[d] + C->gm[d], C->nc[d]) - 1);
+      }
+      if (share <= 0.0) continue;
+      o = PSCellIdx(C, cc[0], cc[1], cc[2]);
+      dep[2 * o] += share * vol[p] / C->Vc;
+      dep[2 * o + 1] += share * vol[p] / C->Kmat[mat[p]];
+    }
   }
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+  PetscCall(PSHaloReduce(C->sfd, dep));
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        const PetscInt o  = PSCellIdx(C, i, j, k);
+        PetscReal     *x_ = &C->u[C->dof * o + C->nmat * C->ms];
+        x_[PS_CX_AM] = dep[2 * o];
+        x_[PS_CX_CM] = dep[2 * o + 1];
+      }
   /* fit: the cell materials compressed where they overflow the room beside the markers */
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
@@ -140,9 +169,11 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S)
         }
         over = Vm - room;
         if (over <= 1e-12 * C->Vc || sumchi <= 0.0) continue;
-        /* no material is squeezed below a tenth of its volume in one step: the rest waits for the next */
+        /* no material is squeezed by more than a fifth of its volume in one
+           step (the trapezoidal energy update stays accurate); the rest
+           waits for the next */
         for (m = 0; m < C->nmat; m++)
-          if (chi[m] > 0.0) over = PetscMin(over, 0.9 * u[m * C->ms + PS_CV] * sumchi / chi[m]);
+          if (chi[m] > 0.0) over = PetscMin(over, 0.2 * u[m * C->ms + PS_CV] * sumchi / chi[m]);
         for (m = 0; m < C->nmat; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           PetscReal        *blk = &u[m * C->ms];

@@ -40,6 +40,8 @@
 
 static PetscLogEvent EV_Remap = 0;
 
+#define PS_DISCARD 1e-6 /* volume fraction below which a cell material is discarded (booked) */
+
 static inline PetscReal VanLeer(PetscReal a, PetscReal b)
 {
   return a * b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
@@ -340,10 +342,13 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
         for (q = 0; q < nm * ms; q++) u[q] += fl[q] - fh[q];
         u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
         for (m = 0; m < nm; m++) {
-          /* round-off must not leave a negative amount */
-          if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= 0.0) {
-            S->lost_local.mass += u[m * ms + PS_CM]; /* a round-off residue, booked */
+          /* traces below PS_DISCARD of the cell (a round-off residue, or what a
+             face flux leaves behind against a marker body) are discarded, as
+             CTH does, their mass and internal energy booked as lost */
+          if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= PS_DISCARD * C->Vc) {
+            S->lost_local.mass += u[m * ms + PS_CM];
             S->lost_local.internal += u[m * ms + PS_CE];
+            C->discarded += u[m * ms + PS_CM];
             for (q = 0; q < ms; q++) u[m * ms + q] = 0.0;
           }
         }
