@@ -123,7 +123,7 @@ PetscErrorCode PSSolverInitialState(PSSolver *S)
   PetscFunctionBeginUser;
   if (S->cells) {
     PetscCall(PSCellsInsert(S));
-    PetscCall(PSCellsFitMarkers(S));
+    PetscCall(PSCellsFitMarkers(S, PETSC_FALSE)); /* the markers' share of each cell; insertion is exact */
   }
   for (p = 0; p < scene->nbody; p++)
     if (scene->bodies[p].cellmat < 0 && scene->bodies[p].pressure != 0.0) any = PETSC_TRUE;

@@ -67,7 +67,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PetscCallMPI(MPI_Allreduce(&smax, &S->smax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)S->sw)));
 
   PetscCall(PSSolverMigrate(S));
-  if (S->cells) PetscCall(PSCellsFitMarkers(S));
+  if (S->cells) PetscCall(PSCellsFitMarkers(S, PETSC_TRUE));
   S->t += dt;
   S->step++;
   PetscFunctionReturn(PETSC_SUCCESS);

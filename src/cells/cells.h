@@ -61,7 +61,7 @@ typedef struct PSCells_ {
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
   PetscReal *Pn;                  /* scratch of the same size */
   PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
-  PetscReal *vh;                  /* the step's time-centred nodal velocity (v^n + v^{n+1})/2, dim per node: moves the cells' faces */
+  PetscReal *vh;                  /* the nodal velocity that moves the cells' faces this step, dim per node */
   PetscSF   sfp;                  /* ghost exchange of P (halo.c) */
   PetscInt  nnl;                  /* local nodes */
   PetscReal Vc;                   /* cell volume (m^3; m^2 in 2D) */
@@ -86,7 +86,7 @@ PETSC_INTERN PetscErrorCode PSCellsInsert(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsToGrid(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsLagrange(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsRemap(PSSolver *, const PSIndex *, PetscReal dt);
-PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *);
+PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *, PetscBool fit);
 PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);
 PETSC_INTERN PetscErrorCode PSCellsExchange(PSCells *);

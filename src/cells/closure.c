@@ -6,7 +6,8 @@
   phase; PSCellsShareVolume decides each material's dV_k in two parts:
 
   1. the change itself.  Void closes first (a compression is taken by void
-     while there is any); the rest is shared in proportion to the
+     while there is any) and takes an expansion where there is void (the
+     relaxation then lets a gas expand into it); the rest is shared in proportion to the
      compliances chi_k = V_k / K_k, K_k = rho_k c_k^2 (and the markers'
      sum_p V_p / K_p), so every participant sees the same pressure increment:
      the isentropic, linearised form of pressure equilibrium.
@@ -30,6 +31,8 @@
 */
 #include "closure.h"
 
+#define PS_CROWD 1e-3 /* cell materials below this fraction of a cell the markers crowd out are discarded */
+
 /* bulk compliance chi = V / K (m^3/Pa) of a material block and its pressure */
 static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal *blk, PetscReal *chi, PetscReal *p)
 {
@@ -39,6 +42,29 @@ static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal 
   PetscCall(PSCellsPressure(S, m, blk, p, &c));
   rho  = blk[PS_CM] / blk[PS_CV];
   *chi = blk[PS_CV] / (rho * PetscMax(c * c, 1e-6)); /* a cold gas at p = 0: very compliant, still finite */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The pressure a cell's materials exert together: the compliance-weighted
+   mean sum chi_k p_k / sum chi_k.  It is the pressure whose work on the
+   cell's volume change equals the work the closure's shares do
+   (sum_k p_k dV_k with dV_k proportional to chi_k), so the nodal force and
+   the materials' energies agree; at equilibrium it is the common pressure. */
+PetscErrorCode PSCellsForcePressure(const PSSolver *S, const PetscReal *u, PetscReal *pf)
+{
+  const PSCells *C = S->cells;
+  PetscReal      chi, p, sc = 0.0, sp = 0.0;
+  PetscInt       m;
+
+  PetscFunctionBeginUser;
+  for (m = 0; m < C->nmat; m++) {
+    const PetscReal *blk = &u[m * C->ms];
+    if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
+    PetscCall(Compliance(S, m, blk, &chi, &p));
+    sc += chi;
+    sp += chi * p;
+  }
+  *pf = sc > 0.0 ? sp / sc : 0.0;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -62,11 +88,16 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
   }
   if (!n) PetscFunctionReturn(PETSC_SUCCESS);
   V0 = PetscMax(C->Vc - Vm - VM, 0.0);
-  /* 1. void takes a compression first; the rest by compliance */
+  /* 1. void takes a compression first, and an expansion where there is any
+     (a sliver of metal in a void cell must not be stretched by the cell's
+     whole growth); the rest by compliance */
   if (dV < 0.0) {
     const PetscReal take = PetscMin(-dV, V0);
     rest += take;
     V0 -= take;
+  } else if (V0 > 1e-12 * C->Vc) {
+    V0 += dV;
+    rest = 0.0;
   }
   /* (a material gives up at most half its volume in one step: a trace of gas
      against a stiff marker would otherwise be asked for more than it has; the
@@ -101,12 +132,12 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
    inserted) shared among the cells it overlaps, so a body's share of a cell
    grows smoothly as it moves in; boxes reaching a neighbour's cells are summed
    by the ghost exchange.  Then the cell materials are fitted beside them. */
-PetscErrorCode PSCellsFitMarkers(PSSolver *S)
+PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
 {
   PSCells        *C   = S->cells;
   const PetscInt  dim = S->dim;
   PetscInt        n, p, d, i, j, k, m, *mat, c;
-  PetscReal      *x, *vol, *dep = C->dep;
+  PetscReal      *x, *vol, *V0, *F, *dep = C->dep;
   PSIndex         ix;
 
   PetscFunctionBeginUser;
@@ -115,12 +146,17 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S)
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
   for (p = 0; p < n; p++) {
-    const PetscReal a = dim == 3 ? PetscCbrtReal(vol[p]) : PetscSqrtReal(vol[p]);
+    const PetscReal a0 = dim == 3 ? PetscCbrtReal(V0[p]) : PetscSqrtReal(V0[p]);
     PetscInt        c0[3] = {0, 0, 0};
     PetscReal       w[3][2] = {{1, 0}, {1, 0}, {1, 0}};
-    /* per direction: the two cells the box can overlap and its share in each */
+    /* per direction: the box's side a = a0 |F_dd| (it shortens along a
+       compression, so a body's boxes keep tiling it in uniaxial strain), the
+       two cells it can overlap and its share in each */
     for (d = 0; d < dim; d++) {
+      const PetscReal a  = a0 * PetscAbsReal(F[p * dim * dim + d * dim + d]);
       const PetscReal lo = (x[p * dim + d] - 0.5 * a - S->scene->lower[d]) * S->ih[d], hi = lo + a * S->ih[d];
       const PetscReal f  = PetscFloorReal(lo);
       c0[d]   = (PetscInt)f;
@@ -142,6 +178,8 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S)
       dep[2 * o + 1] += share * vol[p] / C->Kmat[mat[p]];
     }
   }
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
@@ -154,8 +192,10 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S)
         x_[PS_CX_AM] = dep[2 * o];
         x_[PS_CX_CM] = dep[2 * o + 1];
       }
-  /* fit: the cell materials compressed where they overflow the room beside the markers */
-  for (k = C->cs[2]; k < C->ce[2]; k++)
+  /* fit: the cell materials compressed where they overflow the room beside
+     the markers (not at insertion, which is exact: the boxes only
+     approximate pieces cut at a body's edge) */
+  for (k = C->cs[2]; k < (fit ? C->ce[2] : C->cs[2]); k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
@@ -169,6 +209,21 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S)
         }
         over = Vm - room;
         if (over <= 1e-12 * C->Vc || sumchi <= 0.0) continue;
+        /* where the markers leave no room for less than PS_CROWD of a cell,
+           that little is discarded (booked as lost) rather than crushed: a
+           sliver squeezed against a marker body takes pressures that are no
+           material's */
+        if (Vm < PS_CROWD * C->Vc && room < Vm) {
+          for (m = 0; m < C->nmat; m++) {
+            PetscReal *blk = &u[m * C->ms];
+            PetscInt   q;
+            S->lost_local.mass += blk[PS_CM];
+            S->lost_local.internal += blk[PS_CE];
+            C->discarded += blk[PS_CM];
+            for (q = 0; q < C->ms; q++) blk[q] = 0.0;
+          }
+          continue;
+        }
         /* no material is squeezed by more than a fifth of its volume in one
            step (the trapezoidal energy update stays accurate); the rest
            waits for the next */

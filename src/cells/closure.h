@@ -9,5 +9,6 @@
 #include "cells.h"
 
 PETSC_INTERN PetscErrorCode PSCellsShareVolume(const PSSolver *, const PetscReal *u, PetscReal dV, PetscReal dVk[]);
+PETSC_INTERN PetscErrorCode PSCellsForcePressure(const PSSolver *, const PetscReal *u, PetscReal *pf);
 
 #endif

@@ -3,12 +3,14 @@
 
   PSCellsToGrid (with the markers' P2G, event PSCellsP2G): each cell with
   material adds to its 2^dim corners the nodal mass M_c / 2^dim and the force
-      f_i = -sum_k V_k (sigma_k - q I) . grad N_i(x_c),
+      f_i = -(sum_k V_k s_k - (p_f + q) V_m I) . grad N_i(x_c),
+  p_f the closure's pressure (the compliance-weighted mean, closure.c),
   grad N_i at the cell centre of the bilinear (trilinear) element: one-point
   quadrature, exact for the constant stress of a cell.  One-point quadrature
   leaves the element's hourglass modes (the corner patterns +-1 of xy, and in
   3D yz, xz, xyz; Flanagan & Belytschko, IJNME 17, 1981) without stiffness;
-  a viscous hourglass force f_i = -kappa rho c (V/h) sum_m G_m(i) g_m / 2^dim,
+  a viscous hourglass force f_i = -kappa rho c (V/h) sum_m G_m(i) g_m / 2^dim
+  (rho the cell's mass per cell volume, so a sliver's damping scales with its mass),
   g_m = sum_j G_m(j) v_j, damps them (kappa = 0.1), and its work heats the
   cell.  The owned nodes add the cell materials' momentum P^C_i.
 
@@ -95,13 +97,15 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
         PetscInt         o[8], nh = 0;
         PetscCall(CellMix(S, u, &Mc, &Vm, &cmax));
         if (Mc <= 0.0) continue;
-        /* sum_k V_k sigma_k - q V_m I */
+        /* sum_k V_k s_k - (p_f + q) V_m I, p_f the closure's pressure (closure.c) */
+        {
+          PetscReal pf;
+          PetscCall(PSCellsForcePressure(S, u, &pf));
+          for (d = 0; d < 3; d++) sig[d][d] -= Vm * pf;
+        }
         for (m = 0; m < C->nmat; m++) {
           const PetscReal *blk = &u[m * C->ms];
-          PetscReal        p, c;
           if (blk[PS_CM] <= 0.0) continue;
-          PetscCall(PSCellsPressure(S, m, blk, &p, &c));
-          for (d = 0; d < 3; d++) sig[d][d] -= blk[PS_CV] * p;
           if (C->nq) {
             const PetscReal *sm = &blk[PS_CQ], im = 1.0 / blk[PS_CM];
             sig[0][0] += blk[PS_CV] * sm[0] * im;
@@ -126,7 +130,7 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
           for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) hg[e][d] += G[e] * vc[a][d];
         }
-        rhoc = Mc / Vm * cmax;
+        rhoc = Mc / C->Vc * cmax; /* the cell's mass per volume: a sliver's damping scales with its mass */
         kap  = C->hourglass * rhoc * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
         for (a = 0; a < nco; a++) {
           PetscInt  off[3];
@@ -249,18 +253,20 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
   /* the cell materials take the new nodal velocity (every local node: the
-     remap reads ghost nodes too); their faces move with the time-centred
-     velocity v^{n+1/2} = (v^n + v^{n+1})/2, with which the pressure's work
-     -p dV equals the work of the nodal forces (a compatible update, Caramana
-     et al. 1998: the Lagrangian phase then conserves total energy) */
+     remap reads ghost nodes too), and their faces move with it: the
+     symplectic order of the markers' step (velocity, then positions with the
+     new velocity), which keeps an oscillation's energy bounded.  (Moving the
+     faces with (v^n + v^{n+1})/2 would make the pressure's work equal the
+     forces' work, but with the force taken at the old state it amplifies
+     every mode by 1 + (omega dt)^2/2 a step; a compatible scheme needs a
+     predictor-corrector, Caramana et al. 1998.) */
   for (k = ix->gs[2]; k < ix->gs[2] + ix->gm[2]; k++)
     for (j = ix->gs[1]; j < ix->gs[1] + ix->gm[1]; j++)
       for (i = ix->gs[0]; i < ix->gs[0] + ix->gm[0]; i++) {
         const PetscInt ip[3] = {i - PS_PAD, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
         o = Lidx(ix, i, j, k);
         for (d = 0; d < dim; d++) {
-          const PetscReal vo = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : v[dof * o + d];
-          C->vh[dim * o + d] = 0.5 * (vo + v[dof * o + d]);
+          C->vh[dim * o + d] = v[dof * o + d];
           C->P[dim * o + d]  = C->mcn[o] * v[dof * o + d];
         }
         PSNodeBC(S, ip, &C->vh[dim * o]); /* walls hold the faces on them */
@@ -288,7 +294,7 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
         /* hourglass heating: the work of this step's hourglass force */
         {
           const PetscInt nco = 1 << dim;
-          PetscReal      hg[4][3] = {{0}}, G[4], kap = C->hourglass * rho * cmax * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
+          PetscReal      hg[4][3] = {{0}}, G[4], kap = C->hourglass * Mc / C->Vc * cmax * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
           PetscInt       a, e, nh = 0;
           for (a = 0; a < nco; a++) {
             PetscInt  off[3], oo;

@@ -224,7 +224,7 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
   PSCells        *C = S->cells;
   const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   const PetscInt  t1 = dim == 3 ? (d + 1) % 3 : 1 - d, t2 = dim == 3 ? (d + 2) % 3 : 2, ncol = dim == 3 ? 4 : 2; /* transverse directions */
-  PetscReal      *F, *K, *P = C->P, *Pn = C->Pn;
+  PetscReal      *F, *K, *VB, *P = C->P, *Pn = C->Pn;
   PetscInt        lo[3], hi[3], i[3], e, m, q, nf, a, b;
 
   PetscFunctionBeginUser;
@@ -236,7 +236,7 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
   }
   hi[d] += 1;
   nf = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-  PetscCall(PetscCalloc2(nf * fs, &F, C->nnl, &K));
+  PetscCall(PetscCalloc3(nf * fs, &F, C->nnl, &K, 2 * dim * C->nnl, &VB));
   PetscCall(FractionsBuild(C, fr));
 #define FIDX(c0, c1, c2) ((((c2) - lo[2]) * (hi[1] - lo[1]) + ((c1) - lo[1])) * (hi[0] - lo[0]) + ((c0) - lo[0]))
   for (i[2] = lo[2]; i[2] < hi[2]; i[2]++)
@@ -254,6 +254,33 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
     }
     K[e] = C->mcn[e] > 0.0 ? 0.5 * p2 / C->mcn[e] : 0.0;
   }
+  /* the range of each velocity component over a node and its neighbours along
+     d before the sweep: the remapped velocity must stay in it */
+  for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
+    for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
+      for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
+        const PetscInt o = Lidx(ix, i[0], i[1], i[2]);
+        PetscInt       k, j2[3];
+        for (q = 0; q < dim; q++) {
+          VB[2 * dim * o + 2 * q]     = PETSC_MAX_REAL;
+          VB[2 * dim * o + 2 * q + 1] = -PETSC_MAX_REAL;
+        }
+        for (k = -1; k <= 1; k++) {
+          PetscInt o2;
+          j2[0] = i[0];
+          j2[1] = i[1];
+          j2[2] = i[2];
+          j2[d] += k;
+          if (j2[d] < ix->gs[d] || j2[d] >= ix->gs[d] + ix->gm[d]) continue;
+          o2 = Lidx(ix, j2[0], j2[1], j2[2]);
+          if (C->mcn[o2] <= 0.0) continue;
+          for (q = 0; q < dim; q++) {
+            const PetscReal vq = P[dim * o2 + q] / C->mcn[o2];
+            VB[2 * dim * o + 2 * q]     = PetscMin(VB[2 * dim * o + 2 * q], vq);
+            VB[2 * dim * o + 2 * q + 1] = PetscMax(VB[2 * dim * o + 2 * q + 1], vq);
+          }
+        }
+      }
   for (i[2] = lo[2]; i[2] < (dim == 3 ? hi[2] : 1); i[2]++)
     for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
       for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) {
@@ -365,14 +392,27 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
           }
       }
 #undef FIDX
-  /* new nodal momentum (the boundary conditions on the owned nodes: a wall
-     takes the momentum into it); the cells' new state to the ghosts; the
-     nodal masses */
+  /* the cells' new state to the ghosts; the new nodal masses */
+  PetscCall(PSCellsExchange(C));
+  PetscCall(PSCellsNodalMass(S, ix));
+  /* the new nodal momentum on the owned nodes: its velocity kept within the
+     range it came from (a node the sweep nearly empties divides a remainder
+     of round-off size by a mass of round-off size; and without mass no
+     momentum), what is cut booked as lost; then the boundary conditions (a
+     wall takes the momentum into it) */
   for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
     for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
       for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
+        const PetscInt o     = Lidx(ix, i[0], i[1], i[2]);
         const PetscInt ip[3] = {i[0] - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
-        PSNodeBC(S, ip, &Pn[dim * Lidx(ix, i[0], i[1], i[2])]);
+        for (q = 0; q < dim; q++) {
+          PetscReal pq = Pn[dim * o + q];
+          if (C->mcn[o] <= S->mass_min) pq = 0.0;
+          else if (VB[2 * dim * o + 2 * q] <= VB[2 * dim * o + 2 * q + 1]) pq = C->mcn[o] * PetscMin(PetscMax(pq / C->mcn[o], VB[2 * dim * o + 2 * q]), VB[2 * dim * o + 2 * q + 1]);
+          S->lost_local.p[q] += Pn[dim * o + q] - pq;
+          Pn[dim * o + q] = pq;
+        }
+        PSNodeBC(S, ip, &Pn[dim * o]);
       }
   {
     PetscReal *t = C->P;
@@ -380,8 +420,6 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
     C->Pn = t;
   }
   PetscCall(PSHaloBcast(C->sfp, C->P));
-  PetscCall(PSCellsExchange(C));
-  PetscCall(PSCellsNodalMass(S, ix));
   /* kinetic energy carried minus that of the remapped momentum, d_i per
      owned node, to the ghosts (in the first component of the scratch Pn);
      then each owned cell takes from each corner the share M_c / (2^dim m_i)
@@ -413,7 +451,7 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
         for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM] / Mc;
         C->remap_heat += dE;
       }
-  PetscCall(PetscFree2(F, K));
+  PetscCall(PetscFree3(F, K, VB));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
