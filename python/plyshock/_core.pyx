@@ -19,6 +19,9 @@ cdef extern from "plyshock.h":
     ctypedef enum PetscBool:
         PETSC_FALSE
         PETSC_TRUE
+    ctypedef enum PSInsertion:
+        PS_INSERT_EXACT
+        PS_INSERT_LATTICE
     ctypedef enum PSBodyKind:
         PS_BODY_LAMINATE
         PS_BODY_BOX
@@ -29,6 +32,8 @@ cdef extern from "plyshock.h":
         PetscInt material
         PetscInt priority
         PetscInt subdivision
+        PSInsertion insertion
+        PetscInt points_per_cell
         PetscReal volume_tolerance
         PetscReal sliver_fraction
         PetscReal velocity[3]
@@ -136,6 +141,7 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverRestart(PSSolver *, const char *)
     PetscErrorCode PSMarkersRegisterFields(const PSScene *, PetscDM, PetscInt *)
 
+INSERTION = {"exact": PS_INSERT_EXACT, "lattice": PS_INSERT_LATTICE}
 KIND = {"laminate": PS_BODY_LAMINATE, "box": PS_BODY_BOX, "sphere": PS_BODY_SPHERE, "cylinder": PS_BODY_CYLINDER}
 
 
@@ -198,6 +204,8 @@ cdef class CScene:
             B.material = b.get("material", -1)
             B.priority = b["priority"]
             B.subdivision = b["subdivision"]
+            B.insertion = INSERTION[b.get("insertion", "exact")]
+            B.points_per_cell = b.get("points_per_cell", 1)
             B.volume_tolerance = b["volume_tolerance"]
             B.sliver_fraction = b["sliver_fraction"]
             for j in range(3):

@@ -23,8 +23,10 @@ def scene_to_c(scene):
     pad = lambda v: list(v) + [0.0] * (3 - len(v))
     bodies = []
     for b in scene.bodies:
-        d = dict(kind=b.kind, priority=b.priority or 0, subdivision=b.subdivision,
-                 volume_tolerance=b.volume_tolerance, sliver_fraction=b.sliver_fraction,
+        lattice = b.insertion == "lattice"
+        d = dict(kind=b.kind, priority=b.priority or 0, subdivision=1 if lattice else b.subdivision,
+                 insertion=b.insertion, points_per_cell=b.points_per_cell if lattice else 1,
+                 volume_tolerance=b.volume_tolerance or 1e-6, sliver_fraction=b.sliver_fraction or 0.0,
                  velocity=pad(b.velocity), origin=[0.0] * 3, e=np.eye(3).tolist(), size=[0.0] * 3,
                  center=[0.0] * 3, axis=[0.0] * 3, radius=0.0, length=0.0, z=[])
         if b.kind == "laminate":

@@ -256,6 +256,8 @@ class Cylinder:
 
 SHAPES = {"laminate": Laminate, "box": Box, "sphere": Sphere, "cylinder": Cylinder}
 SHAPE_FUNCTIONS = ("linear", "gimp", "bspline2")
+INSERTIONS = ("exact", "lattice")    # exact pieces (the method's) | a regular lattice of points per cell
+MAX_POINTS_PER_CELL = 16
 TRANSFERS = ("musl", "apic")
 
 
@@ -320,14 +322,16 @@ class Body:
     cylinder: Optional[Cylinder] = None
     material: Optional[str] = None       # for box, sphere, cylinder
     velocity: Optional[List[float]] = None   # m/s
-    subdivision: int = 1
-    volume_tolerance: float = 1e-6
-    sliver_fraction: float = 1e-6
+    subdivision: Optional[int] = None        # exact: sub-cells per cell and direction (default 1)
+    volume_tolerance: Optional[float] = None  # exact, curved bodies: relative (default 1e-6)
+    sliver_fraction: Optional[float] = None  # exact: of a sub-cell (default 1e-6)
     priority: Optional[int] = None
     clip: bool = False
+    insertion: str = "exact"                 # exact | lattice
+    points_per_cell: Optional[int] = None    # lattice: points per cell and direction (default 2; n^dim per cell)
 
     KEYS = ("name", "laminate", "box", "sphere", "cylinder", "material", "velocity", "subdivision",
-            "volume_tolerance", "sliver_fraction", "priority", "clip")
+            "volume_tolerance", "sliver_fraction", "priority", "clip", "insertion", "points_per_cell")
 
     @property
     def kind(self):
@@ -398,9 +402,23 @@ class Scene:
         shapes = [k for k in SHAPES if getattr(b, k) is not None]
         if len(shapes) != 1:
             raise DeckError(path, f"needs exactly one shape of {', '.join(SHAPES)}; got {shapes or 'none'}")
-        b.subdivision = number(b.subdivision, f"{path}.subdivision", 1, 64, integer=True)
-        b.volume_tolerance = number(b.volume_tolerance, f"{path}.volume_tolerance", 1e-12, 0.1)
-        b.sliver_fraction = number(b.sliver_fraction, f"{path}.sliver_fraction", 0, 0.5)
+        if b.insertion not in INSERTIONS:
+            raise DeckError(f"{path}.insertion", f"must be one of {'|'.join(INSERTIONS)}, got {b.insertion!r}")
+        if b.insertion == "lattice":
+            # the lattice fill has its own resolution; the exact insertion's keys do not apply
+            for k in ("subdivision", "volume_tolerance", "sliver_fraction"):
+                if getattr(b, k) is not None:
+                    raise DeckError(f"{path}.{k}", f"applies to insertion exact only; insertion lattice takes points_per_cell "
+                                    f"(points per cell and direction, 1 to {MAX_POINTS_PER_CELL})")
+            b.points_per_cell = number(2 if b.points_per_cell is None else b.points_per_cell, f"{path}.points_per_cell",
+                                       1, MAX_POINTS_PER_CELL, integer=True)
+        else:
+            if b.points_per_cell is not None:
+                raise DeckError(f"{path}.points_per_cell", "applies to insertion: lattice only (the exact insertion "
+                                "refines with subdivision); set insertion: lattice or remove it")
+            b.subdivision = number(1 if b.subdivision is None else b.subdivision, f"{path}.subdivision", 1, 64, integer=True)
+            b.volume_tolerance = number(1e-6 if b.volume_tolerance is None else b.volume_tolerance, f"{path}.volume_tolerance", 1e-12, 0.1)
+            b.sliver_fraction = number(1e-6 if b.sliver_fraction is None else b.sliver_fraction, f"{path}.sliver_fraction", 0, 0.5)
         if b.priority is not None:
             b.priority = number(b.priority, f"{path}.priority", -10**6, 10**6, integer=True)
         if not isinstance(b.clip, bool):
