@@ -54,11 +54,19 @@ ELASTIC_KEYS = {"isotropic": ("type", "E", "nu"),
                 "orthotropic": ("type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23"),
                 "transversely-isotropic": ("type", "E1", "E2", "G12", "nu12", "nu23")}
 PLY_STRENGTHS = ("Xt", "Xc", "Yt", "Yc", "S12", "S23")
+# Mechanical Threshold Stress constants (src/materials/strength_mts.c; SI: Pa, K, 1/s)
+MTS_KEYS = ("sigma_a", "mu_0", "D", "T_0", "k_over_b3", "g_0e", "eps_dot_0e", "p_e", "q_e", "a_0", "a_1", "a_2", "a_3",
+            "alpha", "g_0es", "eps_dot_es0", "sigma_es0", "sigma_i", "g_0i", "eps_dot_0i", "p_i", "q_i")
+MTS_INTRINSIC = ("g_0i", "eps_dot_0i", "p_i", "q_i")     # needed only with sigma_i > 0
+TEMPERATURE_STRENGTHS = ("johnson-cook", "zerilli-armstrong-fcc", "zerilli-armstrong-bcc", "mts")
 FRACTURE_PLANE_DEG = 53.0   # IM7/8552 fracture-plane angle under transverse compression (NASA CompDam, after Camanho)
 MODEL_KEYS = {
     "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0", "spall_pressure")},
     "strength": {"none": ("type",), "elastic-plastic": ("type", "yield_stress", "taylor_quinney"),
-                 "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney")},
+                 "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney"),
+                 "zerilli-armstrong-fcc": ("type", "C0", "C2", "C3", "C4", "T_room", "taylor_quinney"),
+                 "zerilli-armstrong-bcc": ("type", "C0", "C1", "C3", "C4", "C5", "n", "T_room", "taylor_quinney"),
+                 "mts": ("type",) + MTS_KEYS + ("T_room", "taylor_quinney")},
     "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5"),
                 "hashin": ("type", "G_ft", "G_fc", "G_mt", "G_mc")},   # fracture energies J/m^2
 }
@@ -183,14 +191,50 @@ class Material:
         required = {"isotropic": ("E", "nu"), "orthotropic": ELASTIC_KEYS["orthotropic"][1:], "mie-gruneisen": ("c0", "s", "gamma0"),
                     "johnson-cook": ("A", "B", "n", "C", "m", "T_melt") if key == "strength" else ("D1", "D2", "D3", "D4", "D5"),
                     "transversely-isotropic": ELASTIC_KEYS["transversely-isotropic"][1:], "hashin": MODEL_KEYS["failure"]["hashin"][1:],
-                    "elastic-plastic": ("yield_stress",), "none": ()}[m["type"]]
+                    "elastic-plastic": ("yield_stress",), "none": (),
+                    "zerilli-armstrong-fcc": MODEL_KEYS["strength"]["zerilli-armstrong-fcc"][1:5],
+                    "zerilli-armstrong-bcc": MODEL_KEYS["strength"]["zerilli-armstrong-bcc"][1:7],
+                    "mts": MTS_KEYS[:17] + (MTS_INTRINSIC if m.get("sigma_i", 0) else ())}[m["type"]]
         for k in required:
             if k not in m:
                 raise DeckError(f"{path}.{key}.{k}", f"is required for {key} type {m['type']}")
+        if key == "strength" and m["type"] in TEMPERATURE_STRENGTHS[1:]:
+            _strength_ranges(m, f"{path}.{key}")
 
     @property
     def anisotropic(self):
         return isinstance(self.elastic, dict) and self.elastic.get("type") == "orthotropic"
+
+
+def _strength_ranges(m, path):
+    """Ranges of the Zerilli-Armstrong and MTS constants (the kernels' checks
+    repeat them); each error names the key and the allowed range."""
+    def rng(k, lo=None, hi=None, lo_open=False):
+        if k in m:
+            number(m[k], f"{path}.{k}", lo, hi, lo_open=lo_open)
+    rng("T_room", 0, None, lo_open=True)
+    rng("taylor_quinney", 0, 1)
+    if m["type"].startswith("zerilli-armstrong"):
+        for k in ("C0", "C1", "C2", "C5", "C3", "C4"):     # stresses (Pa) and 1/K, all >= 0
+            rng(k, 0)
+        rng("n", 0, 1)
+        return
+    for k in ("mu_0", "k_over_b3", "g_0e", "eps_dot_0e", "g_0es", "eps_dot_es0", "sigma_es0"):
+        rng(k, 0, None, lo_open=True)
+    for k in ("sigma_a", "D", "T_0", "sigma_i", "a_0"):
+        rng(k, 0)
+    # Kocks' ranges of the activation-profile exponents: 0 < p <= 1, 1 <= q <= 2
+    for x in ("e", "i") if m.get("sigma_i", 0) else ("e",):
+        rng(f"p_{x}", 0, 1, lo_open=True)
+        rng(f"q_{x}", 1, 2)
+    if m.get("sigma_i", 0):
+        for k in ("g_0i", "eps_dot_0i"):
+            rng(k, 0, None, lo_open=True)
+    rng("alpha", 0.01, 50)
+    T = float(m.get("T_room", 294.0))
+    if m["D"] > 0 and m["D"] / np.expm1(m["T_0"] / T) >= m["mu_0"]:
+        raise DeckError(f"{path}.D", f"{m['D']} Pa gives mu(T) = mu_0 - D/(exp(T_0/T) - 1) <= 0 at T_room = {T} K; "
+                        f"allowed D < {m['mu_0'] * np.expm1(m['T_0'] / T):.6g} Pa")
 
 
 @dataclass
