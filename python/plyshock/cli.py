@@ -253,7 +253,9 @@ def _init(scene, text, output, png=None, axis=1, zoom=None):
     m = core.initialize(scene)
     t1 = time.perf_counter()
     s = core.summary(m)
-    _print0(f"inserted {m.stats['markers']} markers from {m.stats['pieces']} exact pieces on "
+    how = {"exact": "exact pieces", "lattice": "lattice points"}
+    kinds = sorted({b.insertion for b in scene.bodies})
+    _print0(f"inserted {m.stats['markers']} markers from {m.stats['pieces']} {' and '.join(how[k] for k in kinds)} on "
             f"{PETSc.COMM_WORLD.getSize()} rank(s) in {t1 - t0:.3f} s; slivers merged {m.stats['slivers_merged']}, "
             f"kept {m.stats['slivers_kept']}")
     for name, v in m.clipped.items():
