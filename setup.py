@@ -36,7 +36,8 @@ sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in (
     "clip.c", "geom.c", "insert.c", "markers.c", "io.c", "solver.c", "fields.c", "step.c", "timestep.c", "grid.c",
     "transfer_musl.c", "transfer_apic.c", "stress.c", "migrate.c", "totals.c", "halo.c", "run.c", "checkpoint.c",
     "materials/registry.c", "materials/eos_mie_gruneisen.c", "materials/eos_hypoelastic.c",
-    "materials/strength.c", "materials/failure_johnson_cook.c", "materials/failure_hashin.c",
+    "materials/strength.c", "materials/strength_zerilli_armstrong.c", "materials/strength_mts.c",
+    "materials/failure_johnson_cook.c", "materials/failure_hashin.c",
     "materials/update.c", "materials/update4.c", "materials/orthotropic.c", "materials/driver.c",
     "materials/eos_ideal_gas.c", "cells/cells.c", "cells/lagrange.c", "cells/closure.c", "cells/remap.c",
     "cells/plic.c")]

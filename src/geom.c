@@ -408,6 +408,63 @@ void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int ni
 
 /* ------------------------------------------------------- whole bodies -- */
 
+/* Where a point lies in a body, for the lattice fill: -2 outside, -1 inside a
+   body without plies, else the ply containing it.  Faces are half-open
+   (lower bound in, upper bound out; a curved surface's points on it are out),
+   so two bodies that touch, or two plies that share an interface, never both
+   claim a point; with the same expressions on every rank the answer does not
+   depend on the rank count. */
+PetscInt PSBodyLocatePoint(PetscInt dim, const PSBody *B, const double x[3])
+{
+  double   r[3] = {0, 0, 0}, q, r2 = 0.0;
+  PetscInt i;
+
+  switch (B->kind) {
+  case PS_BODY_LAMINATE:
+  case PS_BODY_BOX: {
+    int      ax[3], na = BoxAxes(dim, ax), k;
+    PetscInt ply = -1;
+    for (i = 0; i < dim; i++) r[i] = x[i] - B->origin[i];
+    for (k = 0; k < na; k++) {
+      const double *e = B->e[ax[k]];
+      q               = 0.0;
+      for (i = 0; i < dim; i++) q += e[i] * r[i];
+      if (q < 0.0 || q >= B->size[ax[k]]) return -2;
+      if (ax[k] == 2 && B->kind == PS_BODY_LAMINATE) {
+        /* the ply with z_p <= q < z_{p+1} (z_0 = 0 <= q < z_nply = size[2]
+           holds here): bisection over the interfaces */
+        PetscInt hi = B->nply;
+        ply         = 0;
+        while (hi - ply > 1) {
+          const PetscInt mid = (ply + hi) / 2;
+          if (q >= B->z[mid]) ply = mid;
+          else hi = mid;
+        }
+      }
+    }
+    return ply;
+  }
+  case PS_BODY_SPHERE:
+    for (i = 0; i < dim; i++) r2 += (x[i] - B->center[i]) * (x[i] - B->center[i]);
+    return r2 < B->radius * B->radius ? -1 : -2;
+  case PS_BODY_CYLINDER: {
+    const double *a = B->axis;
+    for (i = 0; i < dim; i++) r[i] = x[i] - B->center[i];
+    q = 0.0;
+    for (i = 0; i < dim; i++) q += a[i] * r[i];
+    if (q < 0.0 || q >= B->length) return -2;
+    if (dim == 2) {
+      /* the axial section: -R <= t.(x - base) < R, t the in-plane normal */
+      const double t = -a[1] * r[0] + a[0] * r[1];
+      return (t >= -B->radius && t < B->radius) ? -1 : -2;
+    }
+    for (i = 0; i < 3; i++) r2 += (r[i] - q * a[i]) * (r[i] - q * a[i]);
+    return r2 < B->radius * B->radius ? -1 : -2;
+  }
+  }
+  return -2;
+}
+
 PetscErrorCode PSBodyBoundingBox(const PSScene *scene, PetscInt b, PetscReal lo[3], PetscReal hi[3])
 {
   const PSBody *B   = &scene->bodies[b];

@@ -39,6 +39,7 @@ PETSC_INTERN void PSRegionSetup(const PSScene *, const PSBody *, PetscInt ply, P
 PETSC_INTERN void PSSubCellBounds(const PSScene *, const PetscInt idx[3], PetscInt s, const PetscInt q[3], double lo[3], double hi[3]);
 PETSC_INTERN void PSCellRange(const PSScene *, const PetscReal lo[3], const PetscReal hi[3], PetscInt cs[3], PetscInt ce[3]);
 PETSC_INTERN PSCut PSRegionClassify(PetscInt dim, const PSRegion *, const double lo[3], const double hi[3]);
+PETSC_INTERN PetscInt PSBodyLocatePoint(PetscInt dim, const PSBody *, const double x[3]);
 PETSC_INTERN void PSPieceMoments(PetscInt dim, const double lo[3], const double hi[3], int nin, const PSRegion *in, int nsub, const PSRegion *sub, double m[4]);
 
 #endif

@@ -1,5 +1,5 @@
 /*
-  insert.c - exact insertion of bodies and plies as markers.
+  insert.c - insertion of bodies and plies as markers, exact or by lattice.
 
   For every cell a rank owns, every body whose bounding box meets the cell,
   every sub-cell (subdivision^dim per cell) and every ply crossing it:
@@ -16,8 +16,18 @@
   and first moment are summed, so both stay exact, and the centroid stays in
   the (convex) cell ∩ ply.  With no such neighbour the sliver is kept.
 
+  Lattice fill (insertion: lattice; as Uintah, Karamelo and NairnMPM fill a
+  body): each cell is split into n^dim lattice sub-cells (n =
+  points_per_cell) and the centre of each is a marker when it lies inside the
+  body and in no higher-priority body (geom.c, PSBodyLocatePoint: faces
+  half-open, so touching bodies and neighbouring plies never share a point);
+  its ply is the one containing the point, its volume the sub-cell's and its
+  mass rho times that.  It is what the exact insertion is measured against
+  (plyshock verify): its ply masses and centroids are right only on average.
+
   Marker ids: id = ((S * nbody + body) * (maxply + 1) + ply + 1), S the linear
-  index of the sub-cell in the body's refined grid; the same on any rank count.
+  index of the sub-cell (lattice point) in the body's refined grid; the same
+  on any rank count.
 */
 #include <math.h>
 #include <string.h>
@@ -120,6 +130,139 @@ static void RowRange(const PSScene *scene, const PSRegion *hull, PetscInt j, Pet
   if (*i1 < *i0) *i1 = *i0;
 }
 
+/* A marker at a point (the lattice fill): its position exactly x. */
+static PetscErrorCode ListPushPoint(PSMarkerList *L, const double x[3], double vol, PetscReal rho, PetscInt64 id, PetscInt b, PetscInt ply, PetscInt mat)
+{
+  const double m[4] = {vol, 0.0, 0.0, 0.0};
+  PetscInt     d;
+
+  PetscFunctionBeginUser;
+  PetscCall(ListPush(L, m, rho, id, b, ply, mat));
+  for (d = 0; d < L->dim; d++) L->x[3 * (L->n - 1) + d] = x[d];
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Global id of the marker of (sub-cell qi of cell idx refined s times, body b, ply). */
+static inline PetscInt64 MarkerId(const PSScene *scene, const PetscInt idx[3], PetscInt s, const PetscInt qi[3], PetscInt b, PetscInt maxply, PetscInt ply)
+{
+  const PetscInt64 nx = (PetscInt64)scene->cells[0] * s, ny = (PetscInt64)scene->cells[1] * s;
+  const PetscInt64 S  = (PetscInt64)(idx[0] * s + qi[0]) + nx * ((PetscInt64)(idx[1] * s + qi[1]) + (scene->dim == 3 ? ny * (PetscInt64)(idx[2] * s + qi[2]) : 0));
+  return (S * scene->nbody + b) * (maxply + 1) + ply + 1;
+}
+
+/* Work space of one body's insertion. */
+typedef struct {
+  const PSBody *B;
+  PetscInt      b, maxply, nreg, nsub;
+  PSRegion     *reg;              /* the plies, or the body */
+  PSRegion      sub[PS_MAX_SUB];  /* higher-priority bodies that may overlap it */
+  PSPiece      *pc;               /* the pieces of one cell (exact) */
+} PSBodyWork;
+
+/* Exact insertion of one cell: every (sub-cell, ply) piece, slivers merged. */
+static PetscErrorCode ExactCell(const PSScene *scene, PSBodyWork *w, const PetscInt idx[3], PSMarkerList *L, PetscInt64 *count_bp, PSInsertStats *st)
+{
+  const PSBody  *B   = w->B;
+  const PetscInt dim = scene->dim, s = B->subdivision, nsc = dim == 3 ? s * s * s : s * s;
+  PSPiece       *pc  = w->pc;
+  PetscInt       npc = 0, q, p, pp, d;
+  double         vsub = 1.0;
+
+  PetscFunctionBeginUser;
+  for (q = 0; q < nsc; q++) {
+    PetscInt qi[3] = {q % s, (q / s) % s, q / (s * s)}, k0 = 0, k1 = w->nreg;
+    double   lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    PSSubCellBounds(scene, idx, s, qi, lo, hi);
+    vsub = 1.0;
+    for (d = 0; d < dim; d++) vsub *= hi[d] - lo[d];
+    if (B->kind == PS_BODY_LAMINATE) {
+      /* plies that can cross the sub-cell: its extent along axis 3 */
+      const double *e3 = B->e[2];
+      double        zc = 0.0, ze = 0.0;
+      for (d = 0; d < dim; d++) {
+        zc += e3[d] * (0.5 * (lo[d] + hi[d]) - B->origin[d]);
+        ze += fabs(e3[d]) * 0.5 * (hi[d] - lo[d]);
+      }
+      while (k0 < w->nreg && B->z[k0 + 1] <= zc - ze) k0++;
+      k1 = k0;
+      while (k1 < w->nreg && B->z[k1] < zc + ze) k1++;
+    }
+    for (p = k0; p < k1; p++) {
+      PSPiece *P = &pc[npc];
+      P->m[0] = P->m[1] = P->m[2] = P->m[3] = 0.0;
+      PSPieceMoments(dim, lo, hi, 1, &w->reg[p], w->nsub, w->sub, P->m);
+      /* a piece of round-off volume is no piece (planes touching a face) */
+      if (P->m[0] <= 1e-14 * vsub) continue;
+      P->q   = q;
+      P->ply = w->reg[p].ply;
+      npc++;
+    }
+  }
+  st->pieces += npc;
+  /* slivers: merge into the largest ordinary piece of the same ply in the cell */
+  for (p = 0; p < npc; p++) {
+    PetscInt best = -1;
+    if (pc[p].m[0] >= B->sliver_fraction * vsub) continue;
+    for (pp = 0; pp < npc; pp++)
+      if (pc[pp].ply == pc[p].ply && pc[pp].m[0] >= B->sliver_fraction * vsub && (best < 0 || pc[pp].m[0] > pc[best].m[0])) best = pp;
+    if (best < 0) {
+      st->slivers_kept++;
+      continue;
+    }
+    for (d = 0; d < 4; d++) {
+      pc[best].m[d] += pc[p].m[d];
+      pc[p].m[d] = 0.0;
+    }
+    st->slivers_merged++;
+  }
+  for (p = 0; p < npc; p++) {
+    const PetscInt ply = pc[p].ply, mat = ply >= 0 ? B->ply_material[ply] : B->material;
+    if (pc[p].m[0] == 0.0) continue; /* merged away */
+    st->markers++;
+    if (count_bp) count_bp[w->b * (w->maxply + 1) + ply + 1]++;
+    if (!L) continue;
+    {
+      const PetscInt qi[3] = {pc[p].q % s, (pc[p].q / s) % s, pc[p].q / (s * s)};
+      PetscCall(ListPush(L, pc[p].m, scene->density[mat], MarkerId(scene, idx, s, qi, w->b, w->maxply, ply), w->b, ply, mat));
+    }
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* Lattice fill of one cell: the centre of each of its n^dim lattice sub-cells
+   is a marker with the sub-cell's volume when it lies inside the body (in the
+   ply containing it) and in no higher-priority body. */
+static PetscErrorCode LatticeCell(const PSScene *scene, PSBodyWork *w, const PetscInt idx[3], PSMarkerList *L, PetscInt64 *count_bp, PSInsertStats *st)
+{
+  const PSBody  *B   = w->B;
+  const PetscInt dim = scene->dim, n = B->points_per_cell, npt = dim == 3 ? n * n * n : n * n;
+  PetscInt       q, d, k;
+
+  PetscFunctionBeginUser;
+  for (q = 0; q < npt; q++) {
+    const PetscInt qi[3] = {q % n, (q / n) % n, q / (n * n)};
+    double         lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, x[3] = {0, 0, 0}, vol = 1.0;
+    PetscInt       ply, mat;
+    PetscBool      covered = PETSC_FALSE;
+    PSSubCellBounds(scene, idx, n, qi, lo, hi);
+    for (d = 0; d < dim; d++) {
+      x[d] = 0.5 * (lo[d] + hi[d]);
+      vol *= hi[d] - lo[d];
+    }
+    ply = PSBodyLocatePoint(dim, B, x);
+    if (ply < -1) continue;
+    for (k = 0; k < w->nsub && !covered; k++)
+      if (PSBodyLocatePoint(dim, w->sub[k].body, x) >= -1) covered = PETSC_TRUE;
+    if (covered) continue;
+    mat = ply >= 0 ? B->ply_material[ply] : B->material;
+    st->pieces++;
+    st->markers++;
+    if (count_bp) count_bp[w->b * (w->maxply + 1) + ply + 1]++;
+    if (L) PetscCall(ListPushPoint(L, x, vol, scene->density[mat], MarkerId(scene, idx, n, qi, w->b, w->maxply, ply), w->b, ply, mat));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The insertion kernel over cells [cs, ce).  L may be NULL (count only); counts
    per (body, ply) go to count_bp[b * (maxply + 1) + ply + 1] when given. */
 static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], const PetscInt ce[3], PSMarkerList *L, PetscInt64 *count_bp, PSInsertStats *st)
@@ -134,13 +277,13 @@ static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], c
     hmax = PetscMax(hmax, h[d]);
   }
   for (b = 0; b < scene->nbody; b++) {
-    const PSBody *B = &scene->bodies[b];
-    const PetscInt s = B->subdivision, nsc = dim == 3 ? s * s * s : s * s, nreg = B->kind == PS_BODY_LAMINATE ? B->nply : 1;
-    PetscReal      blo[3], bhi[3];
-    PetscInt       bcs[3], bce[3], i, j, k, nsub = 0, npc = 0, nmax;
-    PSRegion      *reg, hull, sub[PS_MAX_SUB];
-    PSPiece       *pc;
-    double         vsub = 1.0;
+    const PSBody  *B       = &scene->bodies[b];
+    const PetscBool lattice = B->insertion == PS_INSERT_LATTICE ? PETSC_TRUE : PETSC_FALSE;
+    const PetscInt  s       = lattice ? 1 : B->subdivision, nsc = dim == 3 ? s * s * s : s * s;
+    PetscReal       blo[3], bhi[3];
+    PetscInt        bcs[3], bce[3], i, j, k;
+    PSRegion        hull;
+    PSBodyWork      w;
 
     if (B->cellmat >= 0) continue; /* a body in cells puts no markers (cells/cells.c) */
     PetscCall(PSBodyBoundingBox(scene, b, blo, bhi));
@@ -151,8 +294,13 @@ static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], c
     }
     if (bcs[0] >= bce[0] || bcs[1] >= bce[1] || bcs[2] >= bce[2]) continue;
     /* regions: the plies (or the body), the hull, and higher-priority bodies */
-    PetscCall(PetscMalloc1(nreg, &reg));
-    for (i = 0; i < nreg; i++) PSRegionSetup(scene, B, B->kind == PS_BODY_LAMINATE ? i : -1, hmax / s, &reg[i]);
+    w.B      = B;
+    w.b      = b;
+    w.maxply = maxply;
+    w.nreg   = B->kind == PS_BODY_LAMINATE ? B->nply : 1;
+    w.nsub   = 0;
+    PetscCall(PetscMalloc1(w.nreg, &w.reg));
+    for (i = 0; i < w.nreg; i++) PSRegionSetup(scene, B, B->kind == PS_BODY_LAMINATE ? i : -1, hmax / s, &w.reg[i]);
     PSRegionSetup(scene, B, -1, hmax / s, &hull);
     for (i = 0; i < scene->nbody; i++) {
       PetscReal olo[3], ohi[3];
@@ -162,87 +310,27 @@ static PetscErrorCode InsertKernel(const PSScene *scene, const PetscInt cs[3], c
       for (d = 0; d < dim; d++)
         if (ohi[d] <= blo[d] || olo[d] >= bhi[d]) meet = PETSC_FALSE;
       if (!meet) continue;
-      PetscCheck(nsub < PS_MAX_SUB, PETSC_COMM_SELF, PETSC_ERR_SUP, "body %" PetscInt_FMT " lies under more than %d higher-priority bodies", b, PS_MAX_SUB);
-      PSRegionSetup(scene, &scene->bodies[i], -1, hmax / s, &sub[nsub++]);
+      PetscCheck(w.nsub < PS_MAX_SUB, PETSC_COMM_SELF, PETSC_ERR_SUP, "body %" PetscInt_FMT " lies under more than %d higher-priority bodies", b, PS_MAX_SUB);
+      PSRegionSetup(scene, &scene->bodies[i], -1, hmax / s, &w.sub[w.nsub++]);
     }
-    nmax = nsc * nreg;
-    PetscCall(PetscMalloc1(nmax, &pc));
+    PetscCall(PetscMalloc1(lattice ? 1 : nsc * w.nreg, &w.pc));
     for (k = bcs[2]; k < bce[2]; k++)
       for (j = bcs[1]; j < bce[1]; j++) {
         PetscInt i0 = bcs[0], i1 = bce[0];
         RowRange(scene, &hull, j, k, h, &i0, &i1);
         for (i = i0; i < i1; i++) {
-          PetscInt idx[3] = {i, j, k}, q0[3] = {0, 0, 0}, q, p, pp;
+          PetscInt idx[3] = {i, j, k}, q0[3] = {0, 0, 0};
           double   clo[3] = {0, 0, 0}, chi[3] = {0, 0, 0};
 
           /* whole cell against the body's hull first: most cells are far away */
           PSSubCellBounds(scene, idx, 1, q0, clo, chi);
           if (PSRegionClassify(dim, &hull, clo, chi) == PS_OUT) continue;
-          npc = 0;
-          for (q = 0; q < nsc; q++) {
-            PetscInt qi[3] = {q % s, (q / s) % s, q / (s * s)}, k0 = 0, k1 = nreg;
-            double   lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-            PSSubCellBounds(scene, idx, s, qi, lo, hi);
-            vsub = 1.0;
-            for (d = 0; d < dim; d++) vsub *= hi[d] - lo[d];
-            if (B->kind == PS_BODY_LAMINATE) {
-              /* plies that can cross the sub-cell: its extent along axis 3 */
-              const double *e3 = B->e[2];
-              double        zc = 0.0, ze = 0.0;
-              for (d = 0; d < dim; d++) {
-                zc += e3[d] * (0.5 * (lo[d] + hi[d]) - B->origin[d]);
-                ze += fabs(e3[d]) * 0.5 * (hi[d] - lo[d]);
-              }
-              while (k0 < nreg && B->z[k0 + 1] <= zc - ze) k0++;
-              k1 = k0;
-              while (k1 < nreg && B->z[k1] < zc + ze) k1++;
-            }
-            for (p = k0; p < k1; p++) {
-              PSPiece *P = &pc[npc];
-              P->m[0] = P->m[1] = P->m[2] = P->m[3] = 0.0;
-              PSPieceMoments(dim, lo, hi, 1, &reg[p], nsub, sub, P->m);
-              /* a piece of round-off volume is no piece (planes touching a face) */
-              if (P->m[0] <= 1e-14 * vsub) continue;
-              P->q   = q;
-              P->ply = reg[p].ply;
-              npc++;
-            }
-          }
-          st->pieces += npc;
-          /* slivers: merge into the largest ordinary piece of the same ply in the cell */
-          for (p = 0; p < npc; p++) {
-            PetscInt best = -1;
-            if (pc[p].m[0] >= B->sliver_fraction * vsub) continue;
-            for (pp = 0; pp < npc; pp++)
-              if (pc[pp].ply == pc[p].ply && pc[pp].m[0] >= B->sliver_fraction * vsub && (best < 0 || pc[pp].m[0] > pc[best].m[0])) best = pp;
-            if (best < 0) {
-              st->slivers_kept++;
-              continue;
-            }
-            for (d = 0; d < 4; d++) {
-              pc[best].m[d] += pc[p].m[d];
-              pc[p].m[d] = 0.0;
-            }
-            st->slivers_merged++;
-          }
-          for (p = 0; p < npc; p++) {
-            const PetscInt ply = pc[p].ply, mat = ply >= 0 ? B->ply_material[ply] : B->material;
-            PetscInt64     S;
-            if (pc[p].m[0] == 0.0) continue; /* merged away */
-            st->markers++;
-            if (count_bp) count_bp[b * (maxply + 1) + ply + 1]++;
-            if (!L) continue;
-            {
-              const PetscInt qi[3] = {pc[p].q % s, (pc[p].q / s) % s, pc[p].q / (s * s)};
-              const PetscInt64 nx = (PetscInt64)scene->cells[0] * s, ny = (PetscInt64)scene->cells[1] * s;
-              S = (PetscInt64)(i * s + qi[0]) + nx * ((PetscInt64)(j * s + qi[1]) + (dim == 3 ? ny * (PetscInt64)(k * s + qi[2]) : 0));
-            }
-            PetscCall(ListPush(L, pc[p].m, scene->density[mat], (S * scene->nbody + b) * (maxply + 1) + ply + 1, b, ply, mat));
-          }
+          if (lattice) PetscCall(LatticeCell(scene, &w, idx, L, count_bp, st));
+          else PetscCall(ExactCell(scene, &w, idx, L, count_bp, st));
         }
       }
-    PetscCall(PetscFree(pc));
-    PetscCall(PetscFree(reg));
+    PetscCall(PetscFree(w.pc));
+    PetscCall(PetscFree(w.reg));
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

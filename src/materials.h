@@ -20,6 +20,11 @@ PETSC_INTERN PetscErrorCode PSEOSIdealGas(const PSMaterial *, PetscReal, PetscRe
 PETSC_INTERN PetscErrorCode PSStrengthNone(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
 PETSC_INTERN PetscErrorCode PSStrengthElasticPlastic(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
 PETSC_INTERN PetscErrorCode PSStrengthJohnsonCook(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
+PETSC_INTERN PetscErrorCode PSStrengthZerilliArmstrongFCC(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
+PETSC_INTERN PetscErrorCode PSStrengthZerilliArmstrongBCC(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
+PETSC_INTERN PetscErrorCode PSStrengthZerilliArmstrongCheck(const PSMaterial *);
+PETSC_INTERN PetscErrorCode PSStrengthMTS(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
+PETSC_INTERN PetscErrorCode PSStrengthMTSCheck(const PSMaterial *);
 PETSC_INTERN PetscErrorCode PSFailureJohnsonCook(const PSMaterial *, PetscReal, PetscReal, PetscReal, PetscReal *);
 PETSC_INTERN PetscErrorCode PSPlyFailureHashin(const PSMaterial *, const PetscReal[6], PetscReal[4]);
 

@@ -25,6 +25,14 @@
   #define PETSC_SUCCESS 0
 #endif
 
+/* How a body becomes markers: the exact pieces of its (sub-)cells, or the
+   points of a regular lattice in each cell that lie inside it (the fill of
+   Uintah, Karamelo, NairnMPM), each with its lattice sub-cell's volume. */
+typedef enum {
+  PS_INSERT_EXACT   = 0,
+  PS_INSERT_LATTICE = 1
+} PSInsertion;
+
 typedef enum {
   PS_BODY_LAMINATE = 0,
   PS_BODY_BOX      = 1,
@@ -38,7 +46,9 @@ typedef struct {
   PSBodyKind kind;
   PetscInt   material;         /* material id of a non-laminate body (plies carry their own) */
   PetscInt   priority;         /* the higher priority wins an overlap */
-  PetscInt   subdivision;      /* sub-cells per cell and direction, >= 1 */
+  PetscInt   subdivision;      /* sub-cells per cell and direction, >= 1 (exact insertion) */
+  PSInsertion insertion;       /* exact (default) or lattice */
+  PetscInt   points_per_cell;  /* lattice: points per cell and direction, >= 1 (n^dim per cell) */
   PetscReal  volume_tolerance; /* relative volume tolerance of curved bodies (-) */
   PetscReal  sliver_fraction;  /* pieces below this fraction of their sub-cell are merged (-) */
   PetscReal  velocity[3];      /* initial velocity (m/s) */
@@ -82,7 +92,7 @@ typedef struct {
 
 /* Counts of an insertion, per rank or reduced over ranks. */
 typedef struct {
-  PetscInt64 pieces;          /* non-empty (sub-cell, body, ply) pieces */
+  PetscInt64 pieces;          /* non-empty (sub-cell, body, ply) pieces; lattice bodies: points inside */
   PetscInt64 markers;         /* markers made */
   PetscInt64 slivers_merged;  /* pieces below sliver_fraction merged into a neighbour */
   PetscInt64 slivers_kept;    /* slivers with no neighbour of the same ply in the cell */

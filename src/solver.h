@@ -68,6 +68,8 @@ typedef struct PSMaterial_ PSMaterial;
 typedef PetscErrorCode (*PSEOSFn)(const PSMaterial *, PetscReal J, PetscReal p_old, PetscReal dvol, PetscReal *A, PetscReal *B, PetscReal *c2);
 /* flow stress Y (Pa) at plastic strain, plastic strain rate (1/s), temperature (K) */
 typedef PetscErrorCode (*PSStrengthFn)(const PSMaterial *, PetscReal eps_p, PetscReal eps_dot, PetscReal T, PetscReal *Y);
+/* a strength model's check of its constants (errors name the value) */
+typedef PetscErrorCode (*PSStrengthCheckFn)(const PSMaterial *);
 /* equivalent plastic strain to failure at triaxiality sigma_m/sigma_eq, rate, temperature */
 typedef PetscErrorCode (*PSFailureFn)(const PSMaterial *, PetscReal triax, PetscReal eps_dot, PetscReal T, PetscReal *eps_f);
 /* ply failure indices of the four modes (fiber tension, fiber compression, matrix
@@ -97,6 +99,26 @@ typedef struct {
   PetscReal E[4];    /* modulus of each mode's softening law: E1, E1, E2, E2 (Pa) */
 } PSPly;
 
+/* Zerilli-Armstrong constants (materials/strength_zerilli_armstrong.c). */
+typedef struct {
+  PetscReal C0;          /* athermal stress delta sigma_G' + k l^(-1/2) (Pa) */
+  PetscReal C1, C2, C5;  /* bcc thermal, fcc thermal, bcc hardening stresses (Pa) */
+  PetscReal C3, C4;      /* 1/K */
+  PetscReal n;           /* bcc hardening exponent (-) */
+} PSZerilliArmstrong;
+
+/* Mechanical Threshold Stress constants (materials/strength_mts.c). */
+typedef struct {
+  PetscReal sigma_a;               /* athermal stress (Pa) */
+  PetscReal mu_0, D, T_0;          /* shear modulus mu(T) = mu_0 - D/(exp(T_0/T) - 1) (Pa, Pa, K) */
+  PetscReal k_over_b3;             /* Boltzmann constant / Burgers vector^3 (Pa/K) */
+  PetscReal sigma_i, g_0i, eps_dot_0i, p_i, q_i; /* intrinsic barrier (Pa, -, 1/s, -, -); sigma_i = 0: none */
+  PetscReal g_0e, eps_dot_0e, p_e, q_e;          /* evolving barrier (-, 1/s, -, -) */
+  PetscReal a_0, a_1, a_2, a_3;    /* theta_0 = a_0 + a_1 ln rate + a_2 sqrt(rate) - a_3 T (Pa, Pa, Pa s^1/2, Pa/K) */
+  PetscReal alpha;                 /* hardening-law shape (-) */
+  PetscReal g_0es, eps_dot_es0, sigma_es0; /* saturation threshold (-, 1/s, Pa) */
+} PSMTS;
+
 /* Constitutive data of one material, SI units; filled from the deck. */
 struct PSMaterial_ {
   PetscReal    rho0;            /* reference density (kg/m^3) */
@@ -106,6 +128,8 @@ struct PSMaterial_ {
   PetscReal    G;               /* shear modulus (Pa); 0 = hydrodynamic */
   PetscReal    Y0;              /* elastic-plastic yield stress (Pa) */
   PetscReal    A, B, n, C, m;   /* Johnson-Cook strength (Pa, Pa, -, -, -) */
+  PSZerilliArmstrong za;        /* Zerilli-Armstrong strength */
+  PSMTS        mts;             /* Mechanical Threshold Stress strength */
   PetscReal    T_melt, T_room;  /* K */
   PetscReal    eps_dot0;        /* Johnson-Cook reference rate (1/s) */
   PetscReal    cv;              /* specific heat (J/kg/K) */

@@ -576,19 +576,24 @@ def test_four_lane_kernel_is_bitwise_the_scalar_kernel(run, hydro):
         assert np.array_equal(out[0][k], out[1][k]), (k, np.abs(out[0][k] - out[1][k]).max())
 
 
-def test_taylor_bar_matches_an_independent_lagrangian_solution_of_the_same_model():
-    """The copper Taylor bar (Johnson-Cook OFHC copper, 190 m/s, frictionless
-    wall) by plyshock (3D quarter model, 0.5 mm cells, apic, bspline2, F-bar)
-    and by taylor_rz (2D axisymmetric Lagrangian finite elements, 8 x 54 zones,
-    no shared code): the final lengths agree within 1.5% and the feet within
-    7% (the MPM foot is two cells wide at its rim and still widening with
-    refinement: 13.8 mm at 0.5 mm, 14.3 mm at 0.25 mm; the reference converges
-    to 14.7 mm).  Both are about 7% longer than the test's 16.21 mm: that gap
-    is the model's, not the method's."""
+@pytest.mark.parametrize("preset", ["OFHC-copper", "OFHC-copper-ZA", "OFHC-copper-MTS"])
+def test_taylor_bar_matches_an_independent_lagrangian_solution_of_the_same_model(preset):
+    """The copper Taylor bar (190 m/s, frictionless wall) with each flow-stress
+    model (Johnson-Cook, Zerilli-Armstrong fcc, MTS) by plyshock (3D quarter
+    model, apic, bspline2, F-bar) and by taylor_rz (2D axisymmetric Lagrangian
+    finite elements, no shared code), both at test size: plyshock at 0.5 mm
+    cells (two cells across the foot's rim), the reference at 8 x 54 zones.
+    The lengths agree within 1.5% (measured +0.2%, 0.0%, 0.0%) and the feet
+    within 7% (measured -4.5%, -3.6%, -3.9%): at this coarse size the MPM foot
+    is still widening with refinement (Johnson-Cook 13.8 mm at 0.5 mm, 14.3 mm
+    at 0.25 mm).  The project's criterion, 2% in length and 3% in foot at
+    plyshock's finest grid against the finest reference, is decided by
+    `scripts/verify --taylor` (README).  The gap to the 1983 test is the
+    model's, the same for both solutions."""
     from plyshock import taylor_rz
     from plyshock.verify import taylor
-    mpm = taylor(0.5e-3, shape="bspline2", transfer="apic")
-    ref = COMM.bcast(taylor_rz.solve(8, 54) if COMM.rank == 0 else None)
+    mpm = taylor(0.5e-3, shape="bspline2", transfer="apic", material=preset)
+    ref = COMM.bcast(taylor_rz.solve(8, 54, material=preset) if COMM.rank == 0 else None)
     assert ref["kinetic_left"] < 0.01 and 0.95 < ref["energy_ratio"] <= 1.0, ref
     assert mpm["kinetic_left"] < 0.01, mpm
     assert mpm["length"] == pytest.approx(ref["length"], rel=0.015), (mpm["length"], ref["length"])

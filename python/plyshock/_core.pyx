@@ -21,6 +21,9 @@ cdef extern from "plyshock.h":
     ctypedef enum PetscBool:
         PETSC_FALSE
         PETSC_TRUE
+    ctypedef enum PSInsertion:
+        PS_INSERT_EXACT
+        PS_INSERT_LATTICE
     ctypedef enum PSBodyKind:
         PS_BODY_LAMINATE
         PS_BODY_BOX
@@ -31,6 +34,8 @@ cdef extern from "plyshock.h":
         PetscInt material
         PetscInt priority
         PetscInt subdivision
+        PSInsertion insertion
+        PetscInt points_per_cell
         PetscReal volume_tolerance
         PetscReal sliver_fraction
         PetscReal velocity[3]
@@ -118,8 +123,15 @@ cdef extern from "solver.h":
         PetscReal X[6]
         PetscReal Gc[4]
         PetscReal E[4]
+    ctypedef struct PSZerilliArmstrong:
+        PetscReal C0, C1, C2, C5, C3, C4, n
+    ctypedef struct PSMTS:
+        PetscReal sigma_a, mu_0, D, T_0, k_over_b3, sigma_i, g_0i, eps_dot_0i, p_i, q_i, g_0e, eps_dot_0e, p_e, q_e
+        PetscReal a_0, a_1, a_2, a_3, alpha, g_0es, eps_dot_es0, sigma_es0
     ctypedef struct PSMaterial:
         PetscReal rho0, K, c0, s, gamma0, gamma, G, Y0, A, B, n, C, m, T_melt, T_room, eps_dot0, cv, chi, spall
+        PSZerilliArmstrong za
+        PSMTS mts
         PetscReal D[5]
         PetscBool aniso
         PSPly ply
@@ -151,6 +163,7 @@ cdef extern from "solver.h":
     PetscErrorCode PSCheckpointVerify(MPI_Comm, const PSScene *, const char *, char *, size_t)
     PetscErrorCode PSMarkersRegisterFields(const PSScene *, PetscDM, PetscInt *)
 
+INSERTION = {"exact": PS_INSERT_EXACT, "lattice": PS_INSERT_LATTICE}
 KIND = {"laminate": PS_BODY_LAMINATE, "box": PS_BODY_BOX, "sphere": PS_BODY_SPHERE, "cylinder": PS_BODY_CYLINDER}
 
 
@@ -218,6 +231,8 @@ cdef class CScene:
             B.material = b.get("material", -1)
             B.priority = b["priority"]
             B.subdivision = b["subdivision"]
+            B.insertion = INSERTION[b.get("insertion", "exact")]
+            B.points_per_cell = b.get("points_per_cell", 1)
             B.volume_tolerance = b["volume_tolerance"]
             B.sliver_fraction = b["sliver_fraction"]
             for j in range(3):
@@ -531,6 +546,16 @@ cdef int fill_material(PSMaterial *M, dict md) except -1:
     M.T_melt, M.T_room, M.eps_dot0, M.cv, M.chi, M.spall = g("T_melt"), g("T_room"), g("eps_dot0"), g("cv"), g("chi"), g("spall")
     for k in range(5):
         M.D[k] = md.get("D", [0.0] * 5)[k]
+    za = md.get("za", {})
+    z = lambda key: float(za.get(key, 0.0))
+    M.za.C0, M.za.C1, M.za.C2, M.za.C3, M.za.C4, M.za.C5, M.za.n = z("C0"), z("C1"), z("C2"), z("C3"), z("C4"), z("C5"), z("n")
+    mts = md.get("mts", {})
+    t = lambda key: float(mts.get(key, 0.0))
+    M.mts.sigma_a, M.mts.mu_0, M.mts.D, M.mts.T_0, M.mts.k_over_b3 = t("sigma_a"), t("mu_0"), t("D"), t("T_0"), t("k_over_b3")
+    M.mts.sigma_i, M.mts.g_0i, M.mts.eps_dot_0i, M.mts.p_i, M.mts.q_i = t("sigma_i"), t("g_0i"), t("eps_dot_0i"), t("p_i"), t("q_i")
+    M.mts.g_0e, M.mts.eps_dot_0e, M.mts.p_e, M.mts.q_e = t("g_0e"), t("eps_dot_0e"), t("p_e"), t("q_e")
+    M.mts.a_0, M.mts.a_1, M.mts.a_2, M.mts.a_3, M.mts.alpha = t("a_0"), t("a_1"), t("a_2"), t("a_3"), t("alpha")
+    M.mts.g_0es, M.mts.eps_dot_es0, M.mts.sigma_es0 = t("g_0es"), t("eps_dot_es0"), t("sigma_es0")
     if md.get("aniso"):
         M.aniso = <PetscBool>1
         for k in range(36):

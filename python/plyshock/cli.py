@@ -4,7 +4,8 @@
     plyshock init SCENE.yaml -o OUT.h5 [--png F] insert markers (under mpiexec or alone)
     plyshock run SCENE.yaml -o OUTDIR            insert and run to run.t_end (-run_<key> overrides)
     plyshock run SCENE.yaml -o OUTDIR --restart OUTDIR/checkpoint.h5   resume a killed run
-    plyshock verify [-o DIR] [--levels N]        error against run time (work-precision), CSV + PNG
+    plyshock verify [-o DIR] [--levels N] [--docs DIR] [--only S,..] [--taylor [CELL ...]]
+                                                 work-precision, insertion study, Taylor bar; CSV + PNG
     plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
@@ -18,6 +19,9 @@ import os
 import re
 import sys
 import time
+
+
+VERIFY_STUDIES = ("shock", "vibration", "insertion", "laminate")   # = verify.STUDIES (not imported: PETSc starts later)
 
 
 def _rank():
@@ -66,10 +70,15 @@ def _parser():
     r.add_argument("-o", "--output", required=True, help="output directory")
     r.add_argument("--restart", help="continue from a checkpoint.h5 written by an earlier run of the same deck (checked first); "
                    "into that run's OUTDIR it resumes a killed run, appending to its .csv files")
-    v = sub.add_parser("verify", help="error against run time: plate impact and elastic wave, every shape function, finer grids")
-    v.add_argument("-o", "--output", default="out/verify", help="output directory (verify.csv, verify.png)")
-    v.add_argument("--levels", type=int, default=3, help="grid levels from 100 um, halving (default 3)")
-    v.add_argument("--taylor", type=float, metavar="CELL", help="the longer mode: also the copper Taylor bar with this cell size (m), e.g. 0.5e-3, and the same model by an axisymmetric Lagrangian reference (taylor_rz)")
+    v = sub.add_parser("verify", help="error against run time (shock problems, a smooth vibration), exact against lattice "
+                       "insertion, and with --taylor the Taylor bar")
+    v.add_argument("-o", "--output", default="out/verify", help="output directory (CSVs and pictures)")
+    v.add_argument("--levels", type=int, default=4, help="shock problems: grid levels from 100 um, halving (default 4)")
+    v.add_argument("--only", default=",".join(VERIFY_STUDIES), help=f"comma-separated studies to run (default all: {','.join(VERIFY_STUDIES)})")
+    v.add_argument("--docs", help="also copy the CSVs and pictures to this directory (scripts/verify: docs)")
+    v.add_argument("--taylor", type=float, nargs="*", metavar="CELL", help="the long mode: also the copper Taylor bar at these cell "
+                   "sizes (m; default 0.5e-3 0.25e-3) for each flow-stress model (Johnson-Cook, Zerilli-Armstrong, MTS), against "
+                   "the same model by an axisymmetric Lagrangian reference (taylor_rz) and against the test; the verdict at the finest")
     pl = sub.add_parser("plot", help="render markers with orientation glyphs coloured by ply, off screen")
     pl.add_argument("markers", help="a marker file written by plyshock init")
     pl.add_argument("--png", required=True)
@@ -126,7 +135,14 @@ def main(argv=None):
             import petsc4py
             petsc4py.init([sys.argv[0]] + petsc)
             from .verify import main as verify
-            verify(args.output, args.levels, taylor_cell=args.taylor)
+            only = [x for x in args.only.split(",") if x]
+            bad = [x for x in only if x not in VERIFY_STUDIES]
+            if bad:
+                raise DeckError("--only", f"unknown study {bad[0]!r}; allowed: {', '.join(VERIFY_STUDIES)}")
+            taylor = None if args.taylor is None else (args.taylor or [0.5e-3, 0.25e-3])
+            if taylor and any(not 0.05e-3 <= c <= 2e-3 for c in taylor):
+                raise DeckError("--taylor", f"cell sizes {taylor} m: allowed [5e-05, 0.002]")
+            verify(args.output, args.levels, taylor_cells=taylor, docs=args.docs, only=only)
             return 0
         from .deck import load
         scene, text = load(args.deck)
@@ -282,7 +298,9 @@ def _init(scene, text, output, png=None, axis=1, zoom=None):
     m = core.initialize(scene)
     t1 = time.perf_counter()
     s = core.summary(m)
-    _print0(f"inserted {m.stats['markers']} markers from {m.stats['pieces']} exact pieces on "
+    how = {"exact": "exact pieces", "lattice": "lattice points"}
+    kinds = sorted({b.insertion for b in scene.bodies})
+    _print0(f"inserted {m.stats['markers']} markers from {m.stats['pieces']} {' and '.join(how[k] for k in kinds)} on "
             f"{PETSc.COMM_WORLD.getSize()} rank(s) in {t1 - t0:.3f} s; slivers merged {m.stats['slivers_merged']}, "
             f"kept {m.stats['slivers_kept']}")
     for name, v in m.clipped.items():

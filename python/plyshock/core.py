@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import DeckError
+from .scene import MTS_KEYS, TEMPERATURE_STRENGTHS
 
 _FACE = {0: ("x-", "x+"), 1: ("y-", "y+"), 2: ("z-", "z+")}
 PAD = 1   # = PS_PAD in src/plyshock.h
@@ -24,8 +25,10 @@ def scene_to_c(scene):
     cellmat = scene.cell_materials
     bodies = []
     for b in scene.bodies:
-        d = dict(kind=b.kind, priority=b.priority or 0, subdivision=b.subdivision,
-                 volume_tolerance=b.volume_tolerance, sliver_fraction=b.sliver_fraction,
+        lattice = b.insertion == "lattice"
+        d = dict(kind=b.kind, priority=b.priority or 0, subdivision=1 if lattice else b.subdivision,
+                 insertion=b.insertion, points_per_cell=b.points_per_cell if lattice else 1,
+                 volume_tolerance=b.volume_tolerance or 1e-6, sliver_fraction=b.sliver_fraction or 0.0,
                  velocity=pad(b.velocity), origin=[0.0] * 3, e=np.eye(3).tolist(), size=[0.0] * 3,
                  center=[0.0] * 3, axis=[0.0] * 3, radius=0.0, length=0.0, z=[],
                  cellmat=cellmat.index(b._mat) if b.representation == "cells" else -1, pressure=b.pressure or 0.0)
@@ -51,7 +54,7 @@ def scene_to_c(scene):
                 cells=list(scene.grid.cells) + [1] * (3 - dim),
                 density=[m.density for m in scene.materials], anisotropic=scene.anisotropic, bodies=bodies,
                 need_plastic=any(m.strength is not None and m.strength.get("type") != "none" for m in scene.materials),
-                need_temperature=any((m.strength or {}).get("type") == "johnson-cook" for m in scene.materials),
+                need_temperature=any((m.strength or {}).get("type") in TEMPERATURE_STRENGTHS for m in scene.materials),
                 ndamage=4 if any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
                 else 1 if any(m.failure is not None for m in scene.materials) else 0,
                 T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials],
@@ -465,10 +468,16 @@ def material_to_c(m, path):
         if st["type"] == "elastic-plastic":
             d["Y0"] = st["yield_stress"]
         else:
-            d.update(A=st["A"], B=st["B"], n=st["n"], C=st["C"], m=st["m"], T_melt=st["T_melt"],
-                     T_room=float(st.get("T_room", 294.0)), eps_dot0=float(st.get("eps_dot0", 1.0)))
+            d["T_room"] = float(st.get("T_room", 294.0))
+            if st["type"] == "johnson-cook":
+                d.update(A=st["A"], B=st["B"], n=st["n"], C=st["C"], m=st["m"], T_melt=st["T_melt"],
+                         eps_dot0=float(st.get("eps_dot0", 1.0)))
+            elif st["type"] == "mts":
+                d["mts"] = {k: float(st.get(k, 0.0)) for k in MTS_KEYS}
+            else:   # zerilli-armstrong-fcc | -bcc
+                d["za"] = {k: float(st.get(k, 0.0)) for k in ("C0", "C1", "C2", "C3", "C4", "C5", "n")}
             if m.specific_heat is None:
-                raise DeckError(f"{path}.specific_heat", "is required with Johnson-Cook strength (J/kg/K; temperature from plastic work)")
+                raise DeckError(f"{path}.specific_heat", f"is required with {st['type']} strength (J/kg/K; temperature from plastic work)")
     d["cv"] = m.specific_heat or 0.0
     if d.get("aniso"):
         if m.failure is not None:

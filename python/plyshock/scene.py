@@ -69,12 +69,20 @@ ELASTIC_KEYS = {"isotropic": ("type", "E", "nu"),
                 "orthotropic": ("type", "E1", "E2", "E3", "G12", "G13", "G23", "nu12", "nu13", "nu23"),
                 "transversely-isotropic": ("type", "E1", "E2", "G12", "nu12", "nu23")}
 PLY_STRENGTHS = ("Xt", "Xc", "Yt", "Yc", "S12", "S23")
+# Mechanical Threshold Stress constants (src/materials/strength_mts.c; SI: Pa, K, 1/s)
+MTS_KEYS = ("sigma_a", "mu_0", "D", "T_0", "k_over_b3", "g_0e", "eps_dot_0e", "p_e", "q_e", "a_0", "a_1", "a_2", "a_3",
+            "alpha", "g_0es", "eps_dot_es0", "sigma_es0", "sigma_i", "g_0i", "eps_dot_0i", "p_i", "q_i")
+MTS_INTRINSIC = ("g_0i", "eps_dot_0i", "p_i", "q_i")     # needed only with sigma_i > 0
+TEMPERATURE_STRENGTHS = ("johnson-cook", "zerilli-armstrong-fcc", "zerilli-armstrong-bcc", "mts")
 FRACTURE_PLANE_DEG = 53.0   # IM7/8552 fracture-plane angle under transverse compression (NASA CompDam, after Camanho)
 MODEL_KEYS = {
     "eos": {"mie-gruneisen": ("type", "c0", "s", "gamma0", "spall_pressure"),
             "ideal-gas": ("type", "gamma", "cv")},                   # gamma > 1; cv J/kg/K (optional: temperature)
     "strength": {"none": ("type",), "elastic-plastic": ("type", "yield_stress", "taylor_quinney"),
-                 "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney")},
+                 "johnson-cook": ("type", "A", "B", "n", "C", "m", "T_melt", "T_room", "eps_dot0", "taylor_quinney"),
+                 "zerilli-armstrong-fcc": ("type", "C0", "C2", "C3", "C4", "T_room", "taylor_quinney"),
+                 "zerilli-armstrong-bcc": ("type", "C0", "C1", "C3", "C4", "C5", "n", "T_room", "taylor_quinney"),
+                 "mts": ("type",) + MTS_KEYS + ("T_room", "taylor_quinney")},
     "failure": {"johnson-cook": ("type", "D1", "D2", "D3", "D4", "D5"),
                 "hashin": ("type", "G_ft", "G_fc", "G_mt", "G_mc")},   # fracture energies J/m^2
 }
@@ -219,12 +227,17 @@ class Material:
         required = {"isotropic": ("E", "nu"), "orthotropic": ELASTIC_KEYS["orthotropic"][1:], "mie-gruneisen": ("c0", "s", "gamma0"),
                     "johnson-cook": ("A", "B", "n", "C", "m", "T_melt") if key == "strength" else ("D1", "D2", "D3", "D4", "D5"),
                     "transversely-isotropic": ELASTIC_KEYS["transversely-isotropic"][1:], "hashin": MODEL_KEYS["failure"]["hashin"][1:],
-                    "elastic-plastic": ("yield_stress",), "none": (), "ideal-gas": ("gamma",)}[m["type"]]
+                    "elastic-plastic": ("yield_stress",), "none": (), "ideal-gas": ("gamma",),
+                    "zerilli-armstrong-fcc": MODEL_KEYS["strength"]["zerilli-armstrong-fcc"][1:5],
+                    "zerilli-armstrong-bcc": MODEL_KEYS["strength"]["zerilli-armstrong-bcc"][1:7],
+                    "mts": MTS_KEYS[:17] + (MTS_INTRINSIC if m.get("sigma_i", 0) else ())}[m["type"]]
         for k in required:
             if k not in m:
                 raise DeckError(f"{path}.{key}.{k}", f"is required for {key} type {m['type']}")
         if m["type"] == "johnson-cook" and key == "strength" and m.get("T_room", 294.0) >= m["T_melt"]:
             raise DeckError(f"{path}.{key}.T_melt", f"{m['T_melt']} K must be above T_room = {m.get('T_room', 294.0)} K")
+        if key == "strength" and m["type"] in TEMPERATURE_STRENGTHS[1:]:
+            _strength_ranges(m, f"{path}.{key}")
 
     @property
     def anisotropic(self):
@@ -233,6 +246,37 @@ class Material:
     @property
     def is_gas(self):
         return isinstance(self.eos, dict) and self.eos.get("type") == "ideal-gas"
+
+
+def _strength_ranges(m, path):
+    """Ranges of the Zerilli-Armstrong and MTS constants (the kernels' checks
+    repeat them); each error names the key and the allowed range."""
+    def rng(k, lo=None, hi=None, lo_open=False):
+        if k in m:
+            number(m[k], f"{path}.{k}", lo, hi, lo_open=lo_open)
+    rng("T_room", 0, None, lo_open=True)
+    rng("taylor_quinney", 0, 1)
+    if m["type"].startswith("zerilli-armstrong"):
+        for k in ("C0", "C1", "C2", "C5", "C3", "C4"):     # stresses (Pa) and 1/K, all >= 0
+            rng(k, 0)
+        rng("n", 0, 1)
+        return
+    for k in ("mu_0", "k_over_b3", "g_0e", "eps_dot_0e", "g_0es", "eps_dot_es0", "sigma_es0"):
+        rng(k, 0, None, lo_open=True)
+    for k in ("sigma_a", "D", "T_0", "sigma_i", "a_0"):
+        rng(k, 0)
+    # Kocks' ranges of the activation-profile exponents: 0 < p <= 1, 1 <= q <= 2
+    for x in ("e", "i") if m.get("sigma_i", 0) else ("e",):
+        rng(f"p_{x}", 0, 1, lo_open=True)
+        rng(f"q_{x}", 1, 2)
+    if m.get("sigma_i", 0):
+        for k in ("g_0i", "eps_dot_0i"):
+            rng(k, 0, None, lo_open=True)
+    rng("alpha", 0.01, 50)
+    T = float(m.get("T_room", 294.0))
+    if m["D"] > 0 and m["D"] / np.expm1(m["T_0"] / T) >= m["mu_0"]:
+        raise DeckError(f"{path}.D", f"{m['D']} Pa gives mu(T) = mu_0 - D/(exp(T_0/T) - 1) <= 0 at T_room = {T} K; "
+                        f"allowed D < {m['mu_0'] * np.expm1(m['T_0'] / T):.6g} Pa")
 
 
 @dataclass
@@ -299,6 +343,8 @@ class Cylinder:
 SHAPES = {"laminate": Laminate, "box": Box, "sphere": Sphere, "cylinder": Cylinder}
 REPRESENTATIONS = ("markers", "cells")
 SHAPE_FUNCTIONS = ("linear", "gimp", "bspline2")
+INSERTIONS = ("exact", "lattice")    # exact pieces (the method's) | a regular lattice of points per cell
+MAX_POINTS_PER_CELL = 16
 TRANSFERS = ("musl", "apic")
 
 
@@ -370,16 +416,18 @@ class Body:
     cylinder: Optional[Cylinder] = None
     material: Optional[str] = None       # for box, sphere, cylinder
     velocity: Optional[List[float]] = None   # m/s
-    subdivision: int = 1
-    volume_tolerance: float = 1e-6
-    sliver_fraction: float = 1e-6
+    subdivision: Optional[int] = None        # exact: sub-cells per cell and direction (default 1)
+    volume_tolerance: Optional[float] = None  # exact, curved bodies: relative (default 1e-6)
+    sliver_fraction: Optional[float] = None  # exact: of a sub-cell (default 1e-6)
     priority: Optional[int] = None
     clip: bool = False
     representation: str = "markers"      # markers | cells (Eulerian volume fractions, remapped every step)
     pressure: Optional[float] = None     # Pa: initial pressure (sets e0 through the EOS at the initial density)
+    insertion: str = "exact"                 # exact | lattice
+    points_per_cell: Optional[int] = None    # lattice: points per cell and direction (default 2; n^dim per cell)
 
     KEYS = ("name", "laminate", "box", "sphere", "cylinder", "material", "velocity", "subdivision",
-            "volume_tolerance", "sliver_fraction", "priority", "clip", "representation", "pressure")
+            "volume_tolerance", "sliver_fraction", "priority", "clip", "representation", "pressure", "insertion", "points_per_cell")
 
     @property
     def kind(self):
@@ -453,9 +501,23 @@ class Scene:
         shapes = [k for k in SHAPES if getattr(b, k) is not None]
         if len(shapes) != 1:
             raise DeckError(path, f"needs exactly one shape of {', '.join(SHAPES)}; got {shapes or 'none'}")
-        b.subdivision = number(b.subdivision, f"{path}.subdivision", 1, 64, integer=True)
-        b.volume_tolerance = number(b.volume_tolerance, f"{path}.volume_tolerance", 1e-12, 0.1)
-        b.sliver_fraction = number(b.sliver_fraction, f"{path}.sliver_fraction", 0, 0.5)
+        if b.insertion not in INSERTIONS:
+            raise DeckError(f"{path}.insertion", f"must be one of {'|'.join(INSERTIONS)}, got {b.insertion!r}")
+        if b.insertion == "lattice":
+            # the lattice fill has its own resolution; the exact insertion's keys do not apply
+            for k in ("subdivision", "volume_tolerance", "sliver_fraction"):
+                if getattr(b, k) is not None:
+                    raise DeckError(f"{path}.{k}", f"applies to insertion exact only; insertion lattice takes points_per_cell "
+                                    f"(points per cell and direction, 1 to {MAX_POINTS_PER_CELL})")
+            b.points_per_cell = number(2 if b.points_per_cell is None else b.points_per_cell, f"{path}.points_per_cell",
+                                       1, MAX_POINTS_PER_CELL, integer=True)
+        else:
+            if b.points_per_cell is not None:
+                raise DeckError(f"{path}.points_per_cell", "applies to insertion: lattice only (the exact insertion "
+                                "refines with subdivision); set insertion: lattice or remove it")
+            b.subdivision = number(1 if b.subdivision is None else b.subdivision, f"{path}.subdivision", 1, 64, integer=True)
+            b.volume_tolerance = number(1e-6 if b.volume_tolerance is None else b.volume_tolerance, f"{path}.volume_tolerance", 1e-12, 0.1)
+            b.sliver_fraction = number(1e-6 if b.sliver_fraction is None else b.sliver_fraction, f"{path}.sliver_fraction", 0, 0.5)
         if b.priority is not None:
             b.priority = number(b.priority, f"{path}.priority", -10**6, 10**6, integer=True)
         if not isinstance(b.clip, bool):
@@ -530,6 +592,8 @@ class Scene:
                 raise DeckError(f"{path}.representation", f"material {m.name!r} is orthotropic: plies ride on markers")
             if b.subdivision != 1:
                 raise DeckError(f"{path}.subdivision", "applies to markers only; a body in cells is inserted as exact volume fractions")
+            if b.insertion != "exact":
+                raise DeckError(f"{path}.insertion", "applies to markers only; a body in cells is inserted as exact volume fractions")
         for m in mats:
             if m.is_gas and b.pressure is None:
                 raise DeckError(f"{path}.pressure", f"is required for a body of ideal-gas material {m.name!r} (Pa, > 0): "

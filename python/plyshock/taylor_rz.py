@@ -10,7 +10,9 @@ the same equations) apart from the model's (this solution against the test).
            (Hallquist, DYNA2D manual UCRL-52429, 1980; Benson, CMAME 99, 1992)
   time     central differences, the rates at the mid-step geometry, dt from the
            zones' smallest altitude / sound speed at Courant number 0.3
-  stress   Jaumann rate, J2 radial return on Johnson-Cook with the total
+  stress   Jaumann rate, J2 radial return on the material's flow stress
+           (Johnson-Cook, Zerilli-Armstrong fcc/bcc or MTS, written here from
+           the models' equations: flow_stress below) with the total
            equivalent deviatoric rate, adiabatic heating 0.9 of the plastic
            work; Mie-Grueneisen pressure (as eos_mie_gruneisen.c); von
            Neumann-Richtmyer + linear viscosity in compression; viscous
@@ -53,13 +55,62 @@ def _scatter(f, shape):
     return out
 
 
+def flow_stress(st, T_room=294.0):
+    """Y(eps_p, rate, T) (Pa; arrays) of a deck's strength mapping:
+
+      johnson-cook          (A + B eps_p^n)(1 + C ln max(rate/eps_dot0, 1))(1 - T*^m)
+      zerilli-armstrong-fcc C0 + C2 eps_p^1/2 exp(-C3 T) rate^(C4 T)
+      zerilli-armstrong-bcc C0 + C1 exp(-C3 T) rate^(C4 T) + C5 eps_p^n
+      mts                   sigma_a + S_e sigma_e mu(T)/mu_0 (+ S_i sigma_i), the
+                            threshold sigma_e at the current rate and T from a table
+                            of the hardening law's quadrature, eps_p(X) = sigma_es/theta_0
+                            int_0^X dX'/(1 - tanh(alpha X')/tanh alpha), interpolated
+    """
+    t = st["type"]
+    if t == "johnson-cook":
+        e0 = st.get("eps_dot0", 1.0)
+        return lambda ep, rate, T: ((st["A"] + st["B"] * ep ** st["n"]) * (1 + st["C"] * np.log(np.maximum(rate / e0, 1.0)))
+                                    * (1 - np.clip((T - T_room) / (st["T_melt"] - T_room), 0.0, 1.0) ** st["m"]))
+    if t == "zerilli-armstrong-fcc":
+        return lambda ep, rate, T: st["C0"] + st["C2"] * np.sqrt(ep) * np.exp(-st["C3"] * T) * rate ** (st["C4"] * T)
+    if t == "zerilli-armstrong-bcc":
+        return lambda ep, rate, T: (st["C0"] + st["C1"] * np.exp(-st["C3"] * T) * rate ** (st["C4"] * T)
+                                    + st["C5"] * ep ** st["n"])
+    if t != "mts":
+        raise ValueError(f"taylor_rz: no flow stress for strength type {t!r}")
+    a = st["alpha"]
+    u = np.linspace(0.0, 30.0, 30001)                      # X = 1 - exp(-u): the table reaches X = 1 - 1e-13
+    X = -np.expm1(-u)
+    g = np.exp(-u) / (1.0 - np.tanh(a * X) / np.tanh(a))
+    eps_table = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(u))])   # eps_p theta_0/sigma_es
+
+    def S(c, g0, e0, rate, p, q):
+        x = np.maximum(c / g0 * np.log(e0 / rate), 0.0)
+        return np.maximum(1.0 - x ** (1.0 / q), 0.0) ** (1.0 / p)
+
+    def Y(ep, rate, T):
+        rate = np.maximum(rate, 1e-7)
+        mu = st["mu_0"] - st["D"] / np.expm1(st["T_0"] / T)
+        c = st["k_over_b3"] * T / mu
+        th0 = np.maximum(st["a_0"] + st["a_1"] * np.log(rate) + st["a_2"] * np.sqrt(rate) - st["a_3"] * T, 1e-30)
+        ses = st["sigma_es0"] * (rate / st["eps_dot_es0"]) ** (c / st["g_0es"])
+        se = ses * np.interp(ep * th0 / ses, eps_table, X)
+        out = st["sigma_a"] + S(c, st["g_0e"], st["eps_dot_0e"], rate, st["p_e"], st["q_e"]) * se * mu / st["mu_0"]
+        if st.get("sigma_i", 0.0) > 0:
+            out = out + S(c, st["g_0i"], st["eps_dot_0i"], rate, st["p_i"], st["q_i"]) * st["sigma_i"] * mu / st["mu_0"]
+        return out
+    return Y
+
+
 def solve(nr=16, nz=107, t_end=80e-6, material="OFHC-copper", radius=3.81e-3, length=25.4e-3, speed=190.0,
-          c_linear=0.2, c_quadratic=2.0, hourglass=0.05, T_room=294.0, chi=0.9, eps_dot0=1.0):
-    """The bar (radius, length in m) at speed (m/s) onto the wall, to t_end (s).
+          c_linear=0.2, c_quadratic=2.0, hourglass=0.05, T_room=294.0, chi=0.9):
+    """The bar (radius, length in m) at speed (m/s) onto the wall, to t_end (s);
+    material: a preset name (its EOS, shear modulus, specific heat and flow stress).
     Returns the final length and foot diameter (m), the kinetic energy left and
     (kinetic + internal) / initial kinetic energy."""
     P = preset(material)
-    rho0, eos, G, jc, cv = P["density"], P["eos"], P["shear_modulus"], P["strength"], P["specific_heat"]
+    rho0, eos, G, cv = P["density"], P["eos"], P["shear_modulus"], P["specific_heat"]
+    flow = flow_stress(P["strength"], T_room)
     c0, s, g0 = eos["c0"], eos["s"], eos["gamma0"]
     r = np.tile(np.linspace(0.0, radius, nr + 1), (nz + 1, 1))
     z = np.tile(np.linspace(0.0, length, nz + 1)[:, None], (1, nr + 1))
@@ -118,8 +169,7 @@ def solve(nr=16, nz=107, t_end=80e-6, material="OFHC-copper", radius=3.81e-3, le
         a4 = srz + dt * (2 * G * drz + om * (szz - srr))
         seq = np.sqrt(1.5 * (a1 * a1 + a2 * a2 + a3 * a3 + 2 * a4 * a4))
         rate = np.sqrt(2.0 / 3.0 * (d1 * d1 + d2 * d2 + d3 * d3 + 2 * drz * drz))
-        Ts = np.clip((T - T_room) / (jc["T_melt"] - T_room), 0.0, 1.0)
-        Y = (jc["A"] + jc["B"] * ep ** jc["n"]) * (1 + jc["C"] * np.log(np.maximum(rate / eps_dot0, 1.0))) * (1 - Ts ** jc["m"])
+        Y = flow(ep, rate, T)
         yielding = seq > Y
         scale = np.where(yielding, Y / np.maximum(seq, 1e-300), 1.0)
         dep = np.where(yielding, (seq - Y) / (3 * G), 0.0)

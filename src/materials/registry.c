@@ -3,7 +3,7 @@
 */
 #include "../materials.h"
 
-static PetscFunctionList PSEOSList = NULL, PSStrengthList = NULL, PSFailureList = NULL, PSPlyFailureList = NULL;
+static PetscFunctionList PSEOSList = NULL, PSStrengthList = NULL, PSStrengthCheckList = NULL, PSFailureList = NULL, PSPlyFailureList = NULL;
 
 PetscErrorCode PSMaterialsRegisterAll(void)
 {
@@ -14,6 +14,13 @@ PetscErrorCode PSMaterialsRegisterAll(void)
   PetscCall(PetscFunctionListAdd(&PSEOSList, "ideal-gas", PSEOSIdealGas));
   PetscCall(PetscFunctionListAdd(&PSStrengthList, "elastic-plastic", PSStrengthElasticPlastic));
   PetscCall(PetscFunctionListAdd(&PSStrengthList, "johnson-cook", PSStrengthJohnsonCook));
+  PetscCall(PetscFunctionListAdd(&PSStrengthList, "zerilli-armstrong-fcc", PSStrengthZerilliArmstrongFCC));
+  PetscCall(PetscFunctionListAdd(&PSStrengthList, "zerilli-armstrong-bcc", PSStrengthZerilliArmstrongBCC));
+  PetscCall(PetscFunctionListAdd(&PSStrengthList, "mts", PSStrengthMTS));
+  /* checks of a strength model's constants, by the same name (optional) */
+  PetscCall(PetscFunctionListAdd(&PSStrengthCheckList, "zerilli-armstrong-fcc", PSStrengthZerilliArmstrongCheck));
+  PetscCall(PetscFunctionListAdd(&PSStrengthCheckList, "zerilli-armstrong-bcc", PSStrengthZerilliArmstrongCheck));
+  PetscCall(PetscFunctionListAdd(&PSStrengthCheckList, "mts", PSStrengthMTSCheck));
   PetscCall(PetscFunctionListAdd(&PSFailureList, "johnson-cook", PSFailureJohnsonCook));
   PetscCall(PetscFunctionListAdd(&PSPlyFailureList, "hashin", PSPlyFailureHashin));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -34,6 +41,11 @@ PetscErrorCode PSMaterialInit(PSMaterial *M, const char eos[], const char streng
   if (!none) {
     PetscCall(PetscFunctionListFind(PSStrengthList, strength, &M->strength_fn));
     PetscCheck(M->strength_fn, PETSC_COMM_SELF, PETSC_ERR_ARG_UNKNOWN_TYPE, "unknown strength type %s", strength);
+    {
+      PSStrengthCheckFn check = NULL;
+      PetscCall(PetscFunctionListFind(PSStrengthCheckList, strength, &check));
+      if (check) PetscCall(check(M));
+    }
   }
   PetscCheck(!M->aniso || !M->strength_fn, PETSC_COMM_SELF, PETSC_ERR_SUP, "strength type %s: orthotropic plies have no plasticity", strength);
   PetscCall(PetscStrcmp(failure, "none", &none));
