@@ -111,13 +111,14 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
 }
 
 /* The initial state of a fresh run (a restart reads its own instead): the
-   bodies in cells inserted, and markers of bodies with an initial pressure
-   given the energy e0 = (p - A)/B of their EOS p = A + B e at J = 1. */
+   bodies in cells inserted, markers of bodies with an initial pressure given
+   the energy e0 = (p - A)/B of their EOS p = A + B e at J = 1, and their
+   initial plastic strain. */
 PetscErrorCode PSSolverInitialState(PSSolver *S)
 {
   const PSScene *scene = S->scene;
   PetscInt       n, p, *body, *mat;
-  PetscReal     *e, *pr;
+  PetscReal     *e, *pr, *ep = NULL;
   PetscBool      any = PETSC_FALSE;
 
   PetscFunctionBeginUser;
@@ -126,15 +127,17 @@ PetscErrorCode PSSolverInitialState(PSSolver *S)
     PetscCall(PSCellsFitMarkers(S, PETSC_FALSE)); /* the markers' share of each cell; insertion is exact */
   }
   for (p = 0; p < scene->nbody; p++)
-    if (scene->bodies[p].cellmat < 0 && scene->bodies[p].pressure != 0.0) any = PETSC_TRUE;
+    if (scene->bodies[p].cellmat < 0 && (scene->bodies[p].pressure != 0.0 || scene->bodies[p].plastic_strain != 0.0)) any = PETSC_TRUE;
   if (!any) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(DMSwarmGetLocalSize(S->sw, &n));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&e));
   PetscCall(DMSwarmGetField(S->sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
+  if (scene->need_plastic) PetscCall(DMSwarmGetField(S->sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&ep));
   for (p = 0; p < n; p++) {
     const PetscReal   p0 = scene->bodies[body[p]].pressure;
+    if (ep) ep[p] = scene->bodies[body[p]].plastic_strain;
     const PSMaterial *M  = &S->mat[mat[p]];
     PetscReal         A, B, c2;
     if (p0 == 0.0) continue;
@@ -143,6 +146,7 @@ PetscErrorCode PSSolverInitialState(PSSolver *S)
     e[p]  = (p0 - A) / B;
     pr[p] = p0;
   }
+  if (ep) PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_EPS_P, NULL, NULL, (void **)&ep));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_PRESSURE, NULL, NULL, (void **)&pr));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_ENERGY, NULL, NULL, (void **)&e));
   PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));

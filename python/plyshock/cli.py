@@ -21,7 +21,7 @@ import sys
 import time
 
 
-VERIFY_STUDIES = ("shock", "vibration", "insertion", "laminate")   # = verify.STUDIES (not imported: PETSc starts later)
+VERIFY_STUDIES = ("shock", "vibration", "insertion", "laminate", "cells")   # = verify.STUDIES (not imported: PETSc starts later)
 
 
 def _rank():

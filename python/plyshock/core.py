@@ -31,7 +31,8 @@ def scene_to_c(scene):
                  volume_tolerance=b.volume_tolerance or 1e-6, sliver_fraction=b.sliver_fraction or 0.0,
                  velocity=pad(b.velocity), origin=[0.0] * 3, e=np.eye(3).tolist(), size=[0.0] * 3,
                  center=[0.0] * 3, axis=[0.0] * 3, radius=0.0, length=0.0, z=[],
-                 cellmat=cellmat.index(b._mat) if b.representation == "cells" else -1, pressure=b.pressure or 0.0)
+                 cellmat=cellmat.index(b._mat) if b.representation == "cells" else -1, pressure=b.pressure or 0.0,
+                 plastic_strain=b.plastic_strain or 0.0)
         if b.kind == "laminate":
             lam = b.laminate
             size = list(lam.size) + ([0.0] if dim == 2 else [])
@@ -169,6 +170,11 @@ def machine_memory():
     return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
+def PSC(dim):
+    """Stress components per marker or cell material: 6 in 3D, 4 in 2D (xx, yy, zz, xy)."""
+    return 6 if dim == 3 else 4
+
+
 def resources(scene, cs, markers=None, hosts=1, ranks=1):
     """What a scene needs before anything is made: grid nodes, the entries of
     the largest grid vector against PETSc's index size, and memory (bytes) for
@@ -183,11 +189,19 @@ def resources(scene, cs, markers=None, hosts=1, ranks=1):
     if markers is None:        # each body's volume in cells, times its sub-cells: a floor for the count
         vcell = float(np.prod(g.h))
         vgrid = float(np.prod(np.subtract(g.upper, g.lower)))
-        markers = round(sum(min(cs.body_volume(i), vgrid) / vcell * b.subdivision ** dim for i, b in enumerate(scene.bodies)))
+        per_cell = lambda b: (0 if b.representation == "cells" else
+                              (b.points_per_cell or 2) ** dim if b.insertion == "lattice" else (b.subdivision or 1) ** dim)
+        markers = round(sum(min(cs.body_volume(i), vgrid) / vcell * per_cell(b) for i, b in enumerate(scene.bodies)))
     per_marker = _marker_bytes(dim, cs.marker_bytes(None))
+    # Eulerian cells: per cell and cell material V, M, E (and the strength state), 4 more per cell, twice (the
+    # state and a sweep's scratch); per node the cells' momentum, its scratch, velocity and mass
+    ncm = len(scene.cell_materials)
+    strength = any((scene.materials[i].strength or {}).get("type", "none") != "none" for i in scene.cell_materials)
+    cell_dof = ncm * (3 + (PSC(dim) + 2 if strength else 0)) + 4 if ncm else 0
+    cell_bytes = 8 * (2 * cells * cell_dof + nodes * (3 * dim + 1)) if ncm else 0
     return dict(cells=cells, nodes=nodes, entries=nodes * (1 + 2 * dim), index_max=int(np.iinfo(PETSc.IntType).max),
                 index_bits=8 * np.dtype(PETSc.IntType).itemsize, markers=markers, markers_estimated=estimated,
-                grid_bytes=nodes * _grid_bytes_per_node(dim), marker_bytes=markers * per_marker,
+                grid_bytes=nodes * _grid_bytes_per_node(dim) + cell_bytes, marker_bytes=markers * per_marker,
                 machine_bytes=machine_memory() * hosts, hosts=hosts, ranks=ranks)
 
 

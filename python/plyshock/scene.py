@@ -423,11 +423,12 @@ class Body:
     clip: bool = False
     representation: str = "markers"      # markers | cells (Eulerian volume fractions, remapped every step)
     pressure: Optional[float] = None     # Pa: initial pressure (sets e0 through the EOS at the initial density)
+    plastic_strain: Optional[float] = None   # -: initial equivalent plastic strain (a material with strength)
     insertion: str = "exact"                 # exact | lattice
     points_per_cell: Optional[int] = None    # lattice: points per cell and direction (default 2; n^dim per cell)
 
     KEYS = ("name", "laminate", "box", "sphere", "cylinder", "material", "velocity", "subdivision",
-            "volume_tolerance", "sliver_fraction", "priority", "clip", "representation", "pressure", "insertion", "points_per_cell")
+            "volume_tolerance", "sliver_fraction", "priority", "clip", "representation", "pressure", "plastic_strain", "insertion", "points_per_cell")
 
     @property
     def kind(self):
@@ -594,6 +595,10 @@ class Scene:
                 raise DeckError(f"{path}.subdivision", "applies to markers only; a body in cells is inserted as exact volume fractions")
             if b.insertion != "exact":
                 raise DeckError(f"{path}.insertion", "applies to markers only; a body in cells is inserted as exact volume fractions")
+        if b.plastic_strain is not None:
+            b.plastic_strain = number(b.plastic_strain, f"{path}.plastic_strain", 0, 100)
+            if any((m.strength or {}).get("type", "none") == "none" for m in mats):
+                raise DeckError(f"{path}.plastic_strain", "needs a material with a strength model (it is that model's state)")
         for m in mats:
             if m.is_gas and b.pressure is None:
                 raise DeckError(f"{path}.pressure", f"is required for a body of ideal-gas material {m.name!r} (Pa, > 0): "

@@ -531,7 +531,7 @@ def taylor_report(rows):
 
 
 # --------------------------------------------------------------------- main --
-STUDIES = ("shock", "vibration", "insertion", "laminate")
+STUDIES = ("shock", "vibration", "insertion", "laminate", "cells")
 
 
 def _write_csv(path, rows):
@@ -594,6 +594,18 @@ def main(outdir="out/verify", levels=4, shapes=("linear", "gimp", "bspline2"), t
             _write_csv(os.path.join(outdir, "laminate_wave.csv"), rows)
             plot_laminate_wave(rows, os.path.join(outdir, "laminate_wave.png"))
         made += ["laminate_wave.csv", "laminate_wave.png"]
+    if "cells" in only:
+        from . import verify_cells
+        rows = verify_cells.cells_study(print0)
+        profiles = verify_cells.loaded_profiles()
+        if rank == 0:
+            _write_csv(os.path.join(outdir, "verify_cells.csv"), rows)
+            verify_cells.plot_cells(rows, profiles, os.path.join(outdir, "verify_cells.png"), os.path.join(outdir, "cells_state.png"))
+            for prob in ("sod", "disk"):
+                rs = [r for r in rows if r["problem"] == prob]
+                pair, fit = observed_orders([r["error"] for r in rs], [1.0 / r["size"] for r in rs])
+                print(f"observed order {prob}: " + ", ".join(f"{x:.2f}" for x in pair) + f"; fit {fit:.2f}")
+        made += ["verify_cells.csv", "verify_cells.png", "cells_state.png"]
     if taylor_cells:
         rows = taylor_study(taylor_cells, print0)
         if rank == 0:

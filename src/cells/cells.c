@@ -226,7 +226,10 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
           blk[PS_CV] += m[0];
           blk[PS_CM] += dm;
           blk[PS_CE] += dm * e0;
-          if (C->nq) blk[PS_CQ + C->ns + 1] += dm * M->T_room; /* M T; no deviator, no plastic strain */
+          if (C->nq) {
+            blk[PS_CQ + C->ns] += dm * B->plastic_strain; /* M eps_p */
+            blk[PS_CQ + C->ns + 1] += dm * M->T_room;     /* M T; no deviator */
+          }
           /* the body's velocity: M v / 2^dim to each corner */
           for (c = 0; c < nz; c++)
             for (bb = 0; bb < 2; bb++)
