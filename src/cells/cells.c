@@ -102,6 +102,10 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscSFDestroy(&(*C)->sfu));
   PetscCall(PetscSFDestroy(&(*C)->sfd));
   PetscCall(PetscFree((*C)->dep));
+  PetscCall(PetscFree((*C)->sF));
+  PetscCall(PetscFree((*C)->sA));
+  PetscCall(PetscFree((*C)->ec));
+  if ((*C)->sK) PetscCall(PetscFree3((*C)->sK, (*C)->sVB, (*C)->sVL));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));
   PetscCall(PetscFree((*C)->Kmat));

@@ -56,6 +56,9 @@ typedef struct PSCells_ {
   PetscReal *un;                  /* scratch of the same size (a sweep's new state) */
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance */
+  PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
+  PetscInt  nsF;
+  PetscReal *ec;                  /* per owned cell and material: the step's EOS values (closure.c) */
   PetscSF   sfd;                  /* its ghost sums (halo.c) */
   DM        dac;                  /* cells without ghosts, dof reals (output, checkpoint) */
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */

@@ -45,30 +45,57 @@ static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* Each owned cell's materials' pressure, sound speed and compliance
+   (ec[PS_EC * (cell * nmat + m) + ...], cell counted over the owned box, x
+   fastest), once per step before the cells' P2G: the state does not change
+   until the Lagrangian phase has used them. */
+PetscErrorCode PSCellsEOSCache(PSSolver *S)
+{
+  PSCells *C = S->cells;
+  PetscInt i, j, k, m, n = 0;
+
+  PetscFunctionBeginUser;
+  if (!C->ec) {
+    PetscInt nown = 1, d;
+    for (d = 0; d < 3; d++) nown *= C->ce[d] - C->cs[d];
+    PetscCall(PetscMalloc1(PetscMax(1, nown * C->nmat * PS_EC), &C->ec));
+  }
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        for (m = 0; m < C->nmat; m++) {
+          const PetscReal *blk = &u[m * C->ms];
+          PetscReal       *ec  = &C->ec[PS_EC * (n * C->nmat + m)];
+          if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
+            ec[0] = ec[1] = ec[2] = 0.0;
+            continue;
+          }
+          PetscCall(PSCellsPressure(S, m, blk, &ec[0], &ec[1]));
+          ec[2] = blk[PS_CV] * blk[PS_CV] / (blk[PS_CM] * PetscMax(ec[1] * ec[1], 1e-6)); /* V / (rho c^2); a cold gas at p = 0: very compliant, still finite */
+        }
+      }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* The pressure a cell's materials exert together: the compliance-weighted
    mean sum chi_k p_k / sum chi_k.  It is the pressure whose work on the
    cell's volume change equals the work the closure's shares do
    (sum_k p_k dV_k with dV_k proportional to chi_k), so the nodal force and
-   the materials' energies agree; at equilibrium it is the common pressure. */
-PetscErrorCode PSCellsForcePressure(const PSSolver *S, const PetscReal *u, PetscReal *pf)
+   the materials' energies agree; at equilibrium it is the common pressure.
+   ec: the cell's cached EOS values (PSCellsEOSCache). */
+PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec)
 {
-  const PSCells *C = S->cells;
-  PetscReal      chi, p, sc = 0.0, sp = 0.0;
-  PetscInt       m;
-
-  PetscFunctionBeginUser;
+  PetscReal sc = 0.0, sp = 0.0;
+  PetscInt  m;
   for (m = 0; m < C->nmat; m++) {
-    const PetscReal *blk = &u[m * C->ms];
-    if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
-    PetscCall(Compliance(S, m, blk, &chi, &p));
-    sc += chi;
-    sp += chi * p;
+    sc += ec[PS_EC * m + 2];
+    sp += ec[PS_EC * m + 2] * ec[PS_EC * m];
   }
-  *pf = sc > 0.0 ? sp / sc : 0.0;
-  PetscFunctionReturn(PETSC_SUCCESS);
+  return sc > 0.0 ? sp / sc : 0.0;
 }
 
-PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscReal dV, PetscReal dVk[])
+PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscReal dV, PetscReal dVk[])
 {
   const PSCells  *C  = S->cells;
   const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
@@ -81,7 +108,8 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, PetscRe
     const PetscReal *blk = &u[m * C->ms];
     dVk[m] = chi[m] = p[m] = 0.0;
     if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
-    PetscCall(Compliance(S, m, blk, &chi[m], &p[m]));
+    chi[m] = ec[PS_EC * m + 2];
+    p[m]   = ec[PS_EC * m];
     Vm += blk[PS_CV];
     sumchi += chi[m];
     n++;

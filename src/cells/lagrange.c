@@ -57,25 +57,16 @@ static inline PetscInt Hourglass(PetscInt dim, const PetscReal s[3], PetscReal G
    state is relaxed by the closure, and letting it decide made the time step
    follow round-off) */
 #define PS_TRACE 1e-4
-static PetscErrorCode CellMix(const PSSolver *S, const PetscReal *u, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
+static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal *ec, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
 {
-  const PSCells *C = S->cells;
-  PetscInt       m;
-
-  PetscFunctionBeginUser;
+  PetscInt m;
   *Mc = *Vm = *cmax = 0.0;
   for (m = 0; m < C->nmat; m++) {
     *Mc += PetscMax(u[m * C->ms + PS_CM], 0.0);
     *Vm += PetscMax(u[m * C->ms + PS_CV], 0.0);
   }
-  for (m = 0; m < C->nmat; m++) {
-    const PetscReal *blk = &u[m * C->ms];
-    PetscReal        p, c;
-    if (blk[PS_CM] <= 0.0 || blk[PS_CV] < PS_TRACE * *Vm) continue;
-    PetscCall(PSCellsPressure(S, m, blk, &p, &c));
-    *cmax = PetscMax(*cmax, c);
-  }
-  PetscFunctionReturn(PETSC_SUCCESS);
+  for (m = 0; m < C->nmat; m++)
+    if (u[m * C->ms + PS_CM] > 0.0 && u[m * C->ms + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
 PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
@@ -84,23 +75,24 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
   const PetscInt  dim = S->dim, nco = 1 << dim, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
-  PetscInt        i, j, k, m, a, d, e;
+  PetscInt        i, j, k, m, a, d, e, n = 0;
 
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
+  PetscCall(PSCellsEOSCache(S));
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++) {
-        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+        const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, vc[8][3], G[4], hg[4][3] = {{0}}, rhoc, kap;
         PetscInt         o[8], nh = 0;
-        PetscCall(CellMix(S, u, &Mc, &Vm, &cmax));
+        CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* sum_k V_k s_k - (p_f + q) V_m I, p_f the closure's pressure (closure.c) */
         {
-          PetscReal pf;
-          PetscCall(PSCellsForcePressure(S, u, &pf));
+          const PetscReal pf = PSCellsForcePressure(C, ec);
           for (d = 0; d < 3; d++) sig[d][d] -= Vm * pf;
         }
         for (m = 0; m < C->nmat; m++) {
@@ -246,7 +238,7 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
   const PetscInt  dim = S->dim, dof = PSGridDof(S);
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
-  PetscInt        i, j, k, m, d, o;
+  PetscInt        i, j, k, m, d, o, n = 0;
 
   PetscFunctionBeginUser;
   if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
@@ -273,9 +265,10 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
       }
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++) {
-        PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
-        PetscReal  L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], hgw = 0.0;
+      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+        PetscReal       *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
+        PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], hgw = 0.0;
         CellGradient(S, ix, i, j, k, C->vh, dim, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
            each moving with the mean velocity of its corners: the remap moves
@@ -283,9 +276,9 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
         trD = L[0][0] + L[1][1] + L[2][2];
         dV  = C->Vc * dt * trD;
         u[C->nmat * C->ms + PS_CX_V] = C->Vc + dV;
-        PetscCall(CellMix(S, u, &Mc, &Vm, &cmax));
+        CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
-        PetscCall(PSCellsShareVolume(S, u, dV, dVk));
+        PetscCall(PSCellsShareVolume(S, u, ec, dV, dVk));
         /* artificial viscosity of the cell (compression only), for this step's
            energy and the next step's force */
         rho                        = Mc / Vm;
@@ -312,9 +305,9 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
         for (m = 0; m < C->nmat; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           PetscReal        *blk = &u[m * C->ms];
-          PetscReal         J, A, B, c2, p0, c0, e1, p1, wdev = 0.0, V1;
+          PetscReal         J, A, B, c2, p0, e1, p1, wdev = 0.0, V1;
           if (blk[PS_CM] <= 0.0) continue;
-          PetscCall(PSCellsPressure(S, m, blk, &p0, &c0));
+          p0 = ec[PS_EC * m];
           V1 = blk[PS_CV] + dVk[m];
           PetscCheck(V1 > 0.0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "cell (%" PetscInt_FMT ", %" PetscInt_FMT ", %" PetscInt_FMT ") material %" PetscInt_FMT " would reach volume %g <= 0 at step %" PetscInt_FMT ", t = %g s: lower run.cfl or refine the grid",
                      i, j, k, C->mat[m], (double)V1, S->step + 1, (double)S->t);
@@ -338,16 +331,17 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
 {
   PSCells  *C = S->cells;
   PSIndex   ix;
-  PetscInt  i, j, k, a, d;
+  PetscInt  i, j, k, a, d, n = 0;
   PetscReal smax = 0.0;
 
   PetscFunctionBeginUser;
   PetscCall(PSGridIndex(S->da, &ix));
+  PetscCall(PSCellsEOSCache(S));
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++) {
+      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
         PetscReal Mc, Vm, cmax, vmax = 0.0;
-        PetscCall(CellMix(S, &C->u[C->dof * PSCellIdx(C, i, j, k)], &Mc, &Vm, &cmax));
+        CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * n * C->nmat], &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         for (a = 0; a < (1 << S->dim); a++) {
           PetscInt  off[3], o;

@@ -38,7 +38,7 @@
 #include "cells.h"
 #include "plic.h"
 
-static PetscLogEvent EV_Remap = 0;
+static PetscLogEvent EV_Remap = 0, EV_Faces, EV_Nodes, EV_Update, EV_Halo, EV_KE;
 
 #define PS_DISCARD 1e-6 /* volume fraction below which a cell material is discarded (booked) */
 
@@ -138,6 +138,20 @@ static void SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscInt
     if (part[k] >= 1 && part[k] <= nm) vol[part[k] - 1] = pv[k];
 }
 
+/* the sweeps' scratch, kept between steps: face fluxes (nf reals), nodal
+   kinetic energy, velocity and its bounds */
+static PetscErrorCode ScratchSize(PSCells *C, PetscInt nf)
+{
+  PetscFunctionBeginUser;
+  if (nf > C->nsF) {
+    PetscCall(PetscFree(C->sF));
+    PetscCall(PetscMalloc1(nf, &C->sF));
+    C->nsF = nf;
+  }
+  if (!C->sK) PetscCall(PetscMalloc3(C->nnl, &C->sK, 2 * C->dim * C->nnl, &C->sVB, C->dim * C->nnl, &C->sVL));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* local index of physical node n */
 static inline PetscInt Node(const PSIndex *ix, PetscInt dim, const PetscInt n[3])
 {
@@ -224,7 +238,7 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
   PSCells        *C = S->cells;
   const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   const PetscInt  t1 = dim == 3 ? (d + 1) % 3 : 1 - d, t2 = dim == 3 ? (d + 2) % 3 : 2, ncol = dim == 3 ? 4 : 2; /* transverse directions */
-  PetscReal      *F, *K, *VB, *P = C->P, *Pn = C->Pn;
+  PetscReal      *F, *K, *VB, *VL, *P = C->P, *Pn = C->Pn;
   PetscInt        lo[3], hi[3], i[3], e, m, q, nf, a, b;
 
   PetscFunctionBeginUser;
@@ -236,23 +250,33 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
   }
   hi[d] += 1;
   nf = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-  PetscCall(PetscCalloc3(nf * fs, &F, C->nnl, &K, 2 * dim * C->nnl, &VB));
+  PetscCall(PetscLogEventBegin(EV_Faces, 0, 0, 0, 0));
+  PetscCall(ScratchSize(C, nf * fs));
+  F  = C->sF;
+  K  = C->sK;
+  VB = C->sVB;
+  VL = C->sVL;
+  PetscCall(PetscArrayzero(F, nf * fs));
   PetscCall(FractionsBuild(C, fr));
 #define FIDX(c0, c1, c2) ((((c2) - lo[2]) * (hi[1] - lo[1]) + ((c1) - lo[1])) * (hi[0] - lo[0]) + ((c0) - lo[0]))
   for (i[2] = lo[2]; i[2] < hi[2]; i[2]++)
     for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
       for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) FaceFlux(S, ix, fr, dt, d, i, &F[fs * FIDX(i[0], i[1], i[2])]);
+  PetscCall(PetscLogEventEnd(EV_Faces, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(EV_Nodes, 0, 0, 0, 0));
 
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
-     upper corner nodes; free faces let the nodes' share out.  Velocities and
-     kinetic energies before the sweep. */
+     upper corner nodes; free faces let the nodes' share out.  Velocities
+     (VL) and kinetic energies (K) before the sweep, over every local node. */
   for (e = 0; e < C->nnl; e++) {
-    PetscReal p2 = 0.0;
+    const PetscReal im = C->mcn[e] > 0.0 ? 1.0 / C->mcn[e] : 0.0;
+    PetscReal       p2 = 0.0;
     for (q = 0; q < dim; q++) {
       Pn[dim * e + q] = P[dim * e + q];
+      VL[dim * e + q] = P[dim * e + q] * im;
       p2 += P[dim * e + q] * P[dim * e + q];
     }
-    K[e] = C->mcn[e] > 0.0 ? 0.5 * p2 / C->mcn[e] : 0.0;
+    K[e] = 0.5 * p2 * im;
   }
   /* the range of each velocity component over a node and its neighbours along
      d before the sweep: the remapped velocity must stay in it */
@@ -275,87 +299,95 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
           o2 = Lidx(ix, j2[0], j2[1], j2[2]);
           if (C->mcn[o2] <= 0.0) continue;
           for (q = 0; q < dim; q++) {
-            const PetscReal vq = P[dim * o2 + q] / C->mcn[o2];
+            const PetscReal vq = VL[dim * o2 + q];
             VB[2 * dim * o + 2 * q]     = PetscMin(VB[2 * dim * o + 2 * q], vq);
             VB[2 * dim * o + 2 * q + 1] = PetscMax(VB[2 * dim * o + 2 * q + 1], vq);
           }
         }
       }
-  for (i[2] = lo[2]; i[2] < (dim == 3 ? hi[2] : 1); i[2]++)
-    for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
-      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) {
-        PetscInt up[3] = {i[0], i[1], i[2]};
-        PetscReal Flo, Fhi, phi, Mc = 0.0, nu;
-        if (i[d] >= hi[d] - 1) continue; /* the extra face index along d */
-        up[d] += 1;
-        Flo = F[fs * FIDX(i[0], i[1], i[2]) + fs - 1];
-        Fhi = F[fs * FIDX(up[0], up[1], up[2]) + fs - 1];
-        phi = 0.5 * (Flo + Fhi) / ncol;
-        /* the share of the upwind half cell that crosses the mid-plane: the
-           Courant number of the momentum's slope correction */
-        for (m = 0; m < nm; m++) Mc += C->u[dof * PSCellIdx(C, i[0], i[1], i[2]) + m * ms + PS_CM];
-        nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0;
-        for (a = 0; a < (dim == 3 ? 2 : 1); a++)
-          for (b = 0; b < 2; b++) {
-            PetscInt  nL[3], nU[3], oL, oU, o2, n2[3];
-            PetscReal vL[3] = {0, 0, 0}, vU[3] = {0, 0, 0}, vf[3], v2 = 0.0;
-            nL[d]  = i[d];
-            nL[t1] = i[t1] + b;
-            nL[t2] = dim == 3 ? i[t2] + a : 0;
-            for (e = 0; e < 3; e++) nU[e] = nL[e];
-            nU[d] += 1;
-            oL = Node(ix, dim, nL);
-            oU = Node(ix, dim, nU);
-            for (q = 0; q < dim; q++) {
-              if (C->mcn[oL] > 0.0) vL[q] = P[dim * oL + q] / C->mcn[oL];
-              if (C->mcn[oU] > 0.0) vU[q] = P[dim * oU + q] / C->mcn[oU];
-            }
-            /* the upwind node's velocity, with a van Leer slope toward the mid-plane */
-            for (e = 0; e < 3; e++) n2[e] = phi > 0.0 ? nL[e] : nU[e];
-            n2[d] += phi > 0.0 ? -1 : 1;
-            o2 = (n2[d] >= 0 && n2[d] <= C->nc[d]) ? Node(ix, dim, n2) : -1;
-            for (q = 0; q < dim; q++) {
-              const PetscReal vu = phi > 0.0 ? vL[q] : vU[q], vd = phi > 0.0 ? vU[q] : vL[q];
-              const PetscReal vb = (o2 >= 0 && C->mcn[o2] > 0.0) ? P[dim * o2 + q] / C->mcn[o2] : vu;
-              vf[q] = vu + 0.5 * (1.0 - nu) * VanLeer(vu - vb, vd - vu);
-              v2 += vf[q] * vf[q];
-            }
-            if (phi != 0.0) {
-              if (OwnedNode(ix, dim, nL)) {
+  {
+    /* node index strides: along d and the transverse directions */
+    const PetscInt sd = d == 0 ? 1 : d == 1 ? ix->gm[0] : ix->gm[0] * ix->gm[1];
+    const PetscInt s1 = t1 == 0 ? 1 : t1 == 1 ? ix->gm[0] : ix->gm[0] * ix->gm[1];
+    const PetscInt s2 = dim == 3 ? (t2 == 0 ? 1 : t2 == 1 ? ix->gm[0] : ix->gm[0] * ix->gm[1]) : 0;
+    for (i[2] = lo[2]; i[2] < (dim == 3 ? hi[2] : 1); i[2]++)
+      for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
+        for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) {
+          PetscInt  up[3] = {i[0], i[1], i[2]}, nL[3], o0;
+          PetscReal Flo, Fhi, phi, Mc = 0.0, nu, g;
+          PetscBool bl, bu;
+          if (i[d] >= hi[d] - 1) continue; /* the extra face index along d */
+          up[d] += 1;
+          Flo = F[fs * FIDX(i[0], i[1], i[2]) + fs - 1];
+          Fhi = F[fs * FIDX(up[0], up[1], up[2]) + fs - 1];
+          bl  = i[d] == 0 && Flo < 0.0;                 /* outflow through a free face below */
+          bu  = up[d] == C->nc[d] && Fhi > 0.0;         /* or above */
+          if (Flo == 0.0 && Fhi == 0.0) continue;       /* nothing crosses this cell */
+          phi = 0.5 * (Flo + Fhi) / ncol;
+          /* the share of the upwind half cell that crosses the mid-plane: the
+             Courant number of the momentum's slope correction */
+          for (m = 0; m < nm; m++) Mc += C->u[dof * PSCellIdx(C, i[0], i[1], i[2]) + m * ms + PS_CM];
+          nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0;
+          g  = 0.5 * (1.0 - nu);
+          nL[d]  = i[d];
+          nL[t1] = i[t1];
+          nL[t2] = dim == 3 ? i[t2] : 0;
+          o0     = Node(ix, dim, nL);
+          for (a = 0; a < (dim == 3 ? 2 : 1); a++)
+            for (b = 0; b < 2; b++) {
+              const PetscInt   oL = o0 + b * s1 + a * s2, oU = oL + sd;
+              const PetscInt   ob = phi > 0.0 ? (i[d] > 0 ? oL - sd : -1) : (up[d] < C->nc[d] ? oU + sd : -1);
+              const PetscReal *vL = &VL[dim * oL], *vU = &VL[dim * oU];
+              PetscReal        vf[3], v2 = 0.0;
+              PetscInt         nn[3];
+              /* the upwind node's velocity, with a van Leer slope toward the mid-plane */
+              for (q = 0; q < dim; q++) {
+                const PetscReal vu = phi > 0.0 ? vL[q] : vU[q], vd = phi > 0.0 ? vU[q] : vL[q];
+                const PetscReal vb = (ob >= 0 && C->mcn[ob] > 0.0) ? VL[dim * ob + q] : vu;
+                vf[q] = vu + g * VanLeer(vu - vb, vd - vu);
+                v2 += vf[q] * vf[q];
+              }
+              nn[d]  = i[d];
+              nn[t1] = i[t1] + b;
+              nn[t2] = dim == 3 ? i[t2] + a : 0;
+              if (OwnedNode(ix, dim, nn)) {
                 for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
                 K[oL] -= phi * 0.5 * v2;
+                /* free faces of the domain: outflow takes the boundary node's share */
+                if (bl) {
+                  const PetscReal out = -Flo / ncol;
+                  PetscReal       k2  = 0.0;
+                  for (q = 0; q < dim; q++) {
+                    Pn[dim * oL + q] -= out * vL[q];
+                    S->lost_local.p[q] += out * vL[q];
+                    k2 += vL[q] * vL[q];
+                  }
+                  K[oL] -= 0.5 * out * k2;
+                  S->lost_local.kinetic += 0.5 * out * k2;
+                }
               }
-              if (OwnedNode(ix, dim, nU)) {
+              nn[d] += 1;
+              if (OwnedNode(ix, dim, nn)) {
                 for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
                 K[oU] += phi * 0.5 * v2;
+                if (bu) {
+                  const PetscReal out = Fhi / ncol;
+                  PetscReal       k2  = 0.0;
+                  for (q = 0; q < dim; q++) {
+                    Pn[dim * oU + q] -= out * vU[q];
+                    S->lost_local.p[q] += out * vU[q];
+                    k2 += vU[q] * vU[q];
+                  }
+                  K[oU] -= 0.5 * out * k2;
+                  S->lost_local.kinetic += 0.5 * out * k2;
+                }
               }
             }
-            /* free faces of the domain: outflow takes the boundary node's share */
-            if (i[d] == 0 && Flo < 0.0 && OwnedNode(ix, dim, nL)) {
-              const PetscReal out = -Flo / ncol;
-              PetscReal       k2 = 0.0;
-              for (q = 0; q < dim; q++) {
-                Pn[dim * oL + q] -= out * vL[q];
-                S->lost_local.p[q] += out * vL[q];
-                k2 += vL[q] * vL[q];
-              }
-              K[oL] -= 0.5 * out * k2;
-              S->lost_local.kinetic += 0.5 * out * k2;
-            }
-            if (up[d] == C->nc[d] && Fhi > 0.0 && OwnedNode(ix, dim, nU)) {
-              const PetscReal out = Fhi / ncol;
-              PetscReal       k2 = 0.0;
-              for (q = 0; q < dim; q++) {
-                Pn[dim * oU + q] -= out * vU[q];
-                S->lost_local.p[q] += out * vU[q];
-                k2 += vU[q] * vU[q];
-              }
-              K[oU] -= 0.5 * out * k2;
-              S->lost_local.kinetic += 0.5 * out * k2;
-            }
-          }
-      }
+        }
+  }
 
+  PetscCall(PetscLogEventEnd(EV_Nodes, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(EV_Update, 0, 0, 0, 0));
   /* the owned cells: in through the lower face, out through the upper */
   for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
@@ -393,8 +425,12 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
       }
 #undef FIDX
   /* the cells' new state to the ghosts; the new nodal masses */
+  PetscCall(PetscLogEventEnd(EV_Update, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
   PetscCall(PSCellsExchange(C));
   PetscCall(PSCellsNodalMass(S, ix));
+  PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(EV_KE, 0, 0, 0, 0));
   /* the new nodal momentum on the owned nodes: its velocity kept within the
      range it came from (a node the sweep nearly empties divides a remainder
      of round-off size by a mass of round-off size; and without mass no
@@ -451,7 +487,8 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
         for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM] / Mc;
         C->remap_heat += dE;
       }
-  PetscCall(PetscFree3(F, K, VB));
+
+  PetscCall(PetscLogEventEnd(EV_KE, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -463,7 +500,15 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&fr, sizeof(fr)));
-  if (!EV_Remap) PetscCall(PetscLogEventRegister("PSCellsRemap", 0, &EV_Remap));
+  fr.A = C->sA; /* kept between steps */
+  if (!EV_Remap) {
+    PetscCall(PetscLogEventRegister("PSCellsRemap", 0, &EV_Remap));
+    PetscCall(PetscLogEventRegister("PSCellsFaces", 0, &EV_Faces));
+    PetscCall(PetscLogEventRegister("PSCellsNodes", 0, &EV_Nodes));
+    PetscCall(PetscLogEventRegister("PSCellsUpdate", 0, &EV_Update));
+    PetscCall(PetscLogEventRegister("PSCellsHalo", 0, &EV_Halo));
+    PetscCall(PetscLogEventRegister("PSCellsKE", 0, &EV_KE));
+  }
   PetscCall(PetscLogEventBegin(EV_Remap, 0, 0, 0, 0));
   /* ghosts of the Lagrangian state (volumes, energies) and momentum */
   PetscCall(PSCellsExchange(C));
@@ -473,7 +518,7 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
     PetscCall(Sweep(S, ix, &fr, dt, d));
   }
   C->sweep0 = 1 - C->sweep0;
-  PetscCall(PetscFree(fr.A));
+  C->sA = fr.A;
   PetscCall(PSCellsExchange(C)); /* the heat of the last sweep */
   PetscCall(PetscLogEventEnd(EV_Remap, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
