@@ -1,17 +1,27 @@
-"""Eulerian-cell benchmark: the Liska-Wendroff "quadrants" 2D Riemann problem
-(the initial data of clawpack.pyclaw.examples.euler_2d.quadrants: the unit
-square cut at x = y = 0.8, gamma 1.4, four states), in cells.  Each quadrant is
-a material of its own (the contract's material density is the initial density,
-so four densities need four materials; they are identical gases), so the
-quadrants' contacts are material interfaces.  Walls all round (PyClaw
-extrapolates; the waves reach the boundaries only late).  Runs a number of steps
-after a warm-up and prints cell-updates per second per core (cells x steps /
-wall time of the steps), the figure PyClaw's peer script prints
-(../shared/peers/pyclaw_euler.py, run by scripts/bench).
+"""Eulerian-cell benchmark.  Cases (-bench_case):
 
-    mpiexec -n 2 python scripts/bench_cells.py [-bench_n 256] [-bench_steps 100]
+  quadrants  the Liska-Wendroff "quadrants" 2D Riemann problem (the initial data
+             of clawpack.pyclaw.examples.euler_2d.quadrants: the unit square cut
+             at x = y = 0.8, gamma 1.4, four states).  Each quadrant is a
+             material of its own (the contract's material density is the initial
+             density, so four densities need four materials; they are identical
+             gases), so the quadrants' contacts are material interfaces.  Walls
+             all round (PyClaw extrapolates; the waves reach the boundaries late).
+  pure       one gas in uniform motion (rho 1, p 1, v (0.5, 0.3)): every face
+             carries flux, every cell pure.
+  mixed      the same flow with two identical gases in stripes one cell wide,
+             offset by half a cell: every cell holds half of each, so every
+             cell takes the mixed-cell path (closure, interface reconstruction,
+             each material's part of the donor slab).  mixed / pure is the cost
+             of a mixed cell against a pure one.
 
-The line CELLS_RATE <n> <rate> is for scripts/bench.
+Runs a number of steps after a warm-up and prints cell-updates per second per
+core (cells x steps / wall time of the steps), the figure PyClaw's peer script
+prints (../shared/peers/pyclaw_euler.py, run by scripts/bench).
+
+    mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants] [-bench_n 256] [-bench_steps 100]
+
+The line BENCH cells_<case>_<n>_<ranks> <rate> is for scripts/bench's table.
 """
 import sys
 import time
@@ -25,21 +35,40 @@ from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
 
 opts = PETSc.Options()
+case = opts.getString("bench_case", "quadrants")
 n = opts.getInt("bench_n", 256)
 steps = opts.getInt("bench_steps", 100)
+if case not in ("quadrants", "pure", "mixed"):
+    sys.exit(f"bench_cells.py: -bench_case must be quadrants, pure or mixed, got {case!r}")
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
 
-# the quadrants: (x range, y range, rho, u, v, p)
-Q = [("ur", (0.8, 1.0), (0.8, 1.0), 1.5, 0.0, 0.0, 1.5),
-     ("ul", (0.0, 0.8), (0.8, 1.0), 0.532258064516129, 1.206045378311055, 0.0, 0.3),
-     ("ll", (0.0, 0.8), (0.0, 0.8), 0.137992831541219, 1.206045378311055, 1.206045378311055, 0.029032258064516),
-     ("lr", (0.8, 1.0), (0.0, 0.8), 0.532258064516129, 0.0, 1.206045378311055, 0.3)]
-mats = [Material(name, density=rho, eos={"type": "ideal-gas", "gamma": 1.4}) for name, xr, yr, rho, u, v, p in Q]
-bodies = [Body(name, box=Box([xr[0], yr[0]], [xr[1], yr[1]]), material=name, representation="cells", pressure=p, velocity=[u, v])
-          for name, xr, yr, rho, u, v, p in Q]
-scene = Scene(2, Grid([0, 0], [1, 1], [n, n], {"x-": "symmetry", "x+": "symmetry", "y-": "symmetry", "y+": "symmetry"}),
-              mats, bodies, Run(t_end=10.0, cfl=0.4)).validate()
+walls = {"x-": "symmetry", "x+": "symmetry", "y-": "symmetry", "y+": "symmetry"}
+gas = {"type": "ideal-gas", "gamma": 1.4}
+if case == "quadrants":
+    # the quadrants: (name, x range, y range, rho, u, v, p)
+    Q = [("ur", (0.8, 1.0), (0.8, 1.0), 1.5, 0.0, 0.0, 1.5),
+         ("ul", (0.0, 0.8), (0.8, 1.0), 0.532258064516129, 1.206045378311055, 0.0, 0.3),
+         ("ll", (0.0, 0.8), (0.0, 0.8), 0.137992831541219, 1.206045378311055, 1.206045378311055, 0.029032258064516),
+         ("lr", (0.8, 1.0), (0.0, 0.8), 0.532258064516129, 0.0, 1.206045378311055, 0.3)]
+    mats = [Material(name, density=rho, eos=gas) for name, xr, yr, rho, u, v, p in Q]
+    bodies = [Body(name, box=Box([xr[0], yr[0]], [xr[1], yr[1]]), material=name, representation="cells", pressure=p, velocity=[u, v])
+              for name, xr, yr, rho, u, v, p in Q]
+    what, grid = "quadrants, 4 gas materials", Grid([0, 0], [1, 1], [n, n], walls)
+else:
+    # uniform flow (walls all round: in the steps timed the gas moves a few
+    # cells, and only the cells next to the walls feel them)
+    v = [0.5, 0.3]
+    h = 1.0 / n
+    if case == "pure":
+        mats = [Material("a", density=1.0, eos=gas)]
+        bodies = [Body("a", box=Box([0, 0], [1, 1]), material="a", representation="cells", pressure=1.0, velocity=v)]
+    else:
+        mats = [Material("a", density=1.0, eos=gas), Material("b", density=1.0, eos=gas)]
+        bodies = [Body(f"s{i}", box=Box([max(0.0, (i - 0.5) * h), 0], [min(1.0, (i + 0.5) * h), 1]), material="ab"[i % 2],
+                       representation="cells", pressure=1.0, velocity=v) for i in range(n + 1)]
+    what, grid = f"uniform flow, {'one gas' if case == 'pure' else 'two gases in half-cell stripes, every cell mixed'}", Grid([0, 0], [1, 1], [n, n], walls)
+scene = Scene(2, grid, mats, bodies, Run(t_end=10.0, cfl=0.4)).validate()
 m = core.initialize(scene)
 S = core.make_solver(m)
 for _ in range(5):
@@ -52,6 +81,6 @@ mpi.Barrier()
 t = time.perf_counter() - t
 rate = n * n * steps / t / comm.getSize()
 if comm.getRank() == 0:
-    print(f"cells benchmark (quadrants, {n}^2 cells, 4 gas materials, {steps} steps): {comm.getSize()} rank(s)")
+    print(f"cells benchmark ({what}, {n}^2 cells, {steps} steps): {comm.getSize()} rank(s)")
     print(f"  {t:.3f} s: {rate / 1e6:.3f} M cell-updates/s/core, t = {S.time:.4f}")
-    print(f"CELLS_RATE {n} {rate:.6e}")
+    print(f"BENCH cells_{case}_{n}_{comm.getSize()} {rate:.6e}")

@@ -95,6 +95,9 @@ def main():
         print(f"  reference in this run, solid box of {nbox} uncut markers: {b_rate / 1e6:.2f} M markers/s/core; "
               f"exact cut pieces cost {b_rate / i_rate:.2f} x an uncut marker")
         print(f"  bytes per marker: {cs.marker_bytes(None)}")
+        print(f"BENCH insert_kernel_{size} {k_rate:.6e}")
+        print(f"BENCH insert_{size} {i_rate:.6e}")
+        print(f"BENCH insert_box_{size} {b_rate:.6e}")
 
 
 main()

@@ -16,6 +16,8 @@ import petsc4py
 
 petsc4py.init(sys.argv)
 from petsc4py import PETSc  # noqa: E402
+
+PETSc.Log.begin()   # the events' counts: a scene without cells must not enter the cells' phases
 import numpy as np  # noqa: E402
 
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
@@ -65,8 +67,16 @@ muslb = bench("musl", "bspline2") if only in ("", "musl") else None
 if comm.getRank() == 0:
     if apic and musl:
         print(f"  musl/gimp (the default) runs {musl / apic:.2f}x apic, musl/bspline2 {muslb / apic:.2f}x apic")
+    r = comm.getSize()
     if apic:
         print(f"RATE {apic:.6e}")
+        print(f"BENCH block_apic_{r} {apic:.6e}")
     if musl:
         print(f"RATE_MUSL {musl:.6e}")
         print(f"RATE_MUSL_BSPLINE {muslb:.6e}")
+        print(f"BENCH block_musl_{r} {musl:.6e}")
+        print(f"BENCH block_musl_bspline2_{r} {muslb:.6e}")
+    # what a scene without cell bodies pays for the cells: their phases' calls
+    calls = sum(PETSc.Log.Event(e).getPerfInfo()["count"] for e in ("PSCellsP2G", "PSCellsLagrange", "PSCellsRemap"))
+    print(f"  cell phases entered by this scene without cells: {calls} times")
+    print(f"BENCH nocells_calls {calls}")

@@ -1,0 +1,88 @@
+"""The table scripts/bench ends with: every speed figure of one bench run as a
+ratio to its reference, beside the goal the issues set.
+
+    python3 scripts/bench_table.py out/bench.log
+
+Reads the lines `BENCH <key> <value>` the bench scripts print (rates in units
+per second; marker-steps, pieces or cell-updates) and the peers' rows (Taichi:
+`PEER taichi_<threads> <rate>`; PyClaw: its own table, parsed here).  A figure
+whose run did not happen (a peer that could not be installed) is shown as "-".
+References measured in the same script are marked "same run"; the two quoted
+constants (r3d's clipping rate and Karamelo's Taylor bar) are marked "quoted".
+"""
+import re
+import sys
+
+R3D = 1.4e6                         # r3d: a box clipped by a slab, first moments, pieces/s/core (quoted)
+KARAMELO = {1: 0.50e6, 2: 0.87e6}   # Karamelo's copper Taylor bar, marker-steps/s on 1 and 2 ranks (quoted)
+
+
+def read(path):
+    b = {}
+    for line in open(path, errors="replace"):
+        f = line.split()
+        if len(f) == 3 and f[0] in ("BENCH", "PEER"):
+            b[f[1]] = float(f[2])
+        # PyClaw's rows: "2D quadrants roe_split 256x256 t=0.8  cells steps wall rate ..."
+        m = re.match(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+\d+\s+\S+\s+(\S+)", line)
+        if m:
+            b[f"pyclaw_{m.group(1)}"] = float(m.group(2)) * 1e6
+    return b
+
+
+def main():
+    b = read(sys.argv[1])
+    rows = []
+
+    def row(what, key, ref, refname, goal=None, unit="M/s", scale=1e-6, per=1):
+        v = b.get(key)
+        r = b.get(ref) if isinstance(ref, str) else ref
+        val = f"{v * scale / per:.3g} {unit}" if v is not None else "-"
+        ratio = f"{v / per / r:.2f}" if (v is not None and r) else "-"
+        ok = "" if goal is None or ratio == "-" else ("yes" if float(ratio) >= goal else "no")
+        rows.append((what, val, refname, ratio, f">= {goal:g}" if goal is not None else "", ok))
+
+    # the default shock path (musl/gimp) and the others, elastic block 64^3, 74k markers, 1 core
+    row("elastic block, default musl/gimp, 1 rank", "block_musl_1", "block_apic_1", "apic, same run", 0.7)
+    row("elastic block, default musl/gimp, 1 rank", "block_musl_1", "taichi_1", "Taichi 1 thread, same run", 3.0)
+    row("elastic block, musl/bspline2, 1 rank", "block_musl_bspline2_1", "block_apic_1", "apic, same run")
+    row("elastic block, apic, 1 rank", "block_apic_1", "taichi_1", "Taichi 1 thread, same run", 2.0)
+    row("elastic block, default, 2 ranks (per core)", "block_musl_2", "block_musl_1", "1 rank, same run: efficiency")
+    row("elastic block, apic, 2 ranks (per core)", "block_apic_2", "block_apic_1", "1 rank, same run: efficiency")
+    # the Taylor bar with full shock physics, default path
+    row("Taylor bar, default musl/gimp, 1 rank", "taylor_gimp_1", KARAMELO[1], "Karamelo 0.50 M/s, quoted", 2.0)
+    row("Taylor bar, default musl/gimp, 2 ranks", "taylor_gimp_2", KARAMELO[2], "Karamelo 0.87 M/s, quoted", 2.0)
+    if "taylor_gimp_1" in b and "taylor_gimp_2" in b:
+        b["taylor_gimp_2_core"] = b["taylor_gimp_2"] / 2
+    row("Taylor bar, 2 ranks (per core)", "taylor_gimp_2_core", "taylor_gimp_1", "1 rank, same run: efficiency")
+    # exact insertion, end to end (clipping + DMSwarm fill)
+    row("insertion end to end, 1 rank (per core)", "insert_1", R3D, "r3d 1.4 M/s, quoted", 2.0)
+    row("insertion end to end, 2 ranks (per core)", "insert_2", R3D, "r3d 1.4 M/s, quoted", 2.0)
+    row("geometry kernel alone, 1 core", "insert_kernel_1", R3D, "r3d 1.4 M/s, quoted")
+    # the Eulerian cells
+    for n in (256, 512):
+        row(f"cells, quadrants {n}^2, 1 rank", f"cells_quadrants_{n}_1", f"pyclaw_{n}", "PyClaw 1 core, same run", 2.0)
+        row(f"cells, quadrants {n}^2, 2 ranks (per core)", f"cells_quadrants_{n}_2", f"cells_quadrants_{n}_1", "1 rank, same run: efficiency", 0.85)
+    for n in (256,):
+        if f"cells_mixed_{n}_1" in b and f"cells_pure_{n}_1" in b:
+            b[f"cells_mixed_cost_{n}"] = b[f"cells_pure_{n}_1"] / b[f"cells_mixed_{n}_1"]
+        rows.append((f"cells, mixed cell against pure ({n}^2, 1 rank)",
+                     f"{b[f'cells_pure_{n}_1'] / 1e6:.3g} / {b[f'cells_mixed_{n}_1'] / 1e6:.3g} M/s" if f"cells_mixed_cost_{n}" in b else "-",
+                     "cost ratio mixed / pure", f"{b[f'cells_mixed_cost_{n}']:.2f}" if f"cells_mixed_cost_{n}" in b else "-", "", ""))
+    if "nocells_calls" in b:
+        rows.append(("elastic block (no cells): cells' phases entered", f"{b['nocells_calls']:.0f} times", "", "", "0", "yes" if b["nocells_calls"] == 0 else "no"))
+    # contact (multi-field) against bonded, the oblique plate
+    row("oblique plate, contact (per core)", "contact_multi_1", "contact_bonded_1", "bonded, same run")
+    if "blast_seconds" in b:
+        rows.append(("blast panel example (2D, cells + markers), run time", f"{b['blast_seconds']:.1f} s", "", "", "", ""))
+
+    w = [max(len(r[i]) for r in rows + [("figure", "measured", "reference", "ratio", "goal", "met")]) for i in range(6)]
+    head = ("figure", "measured", "reference", "ratio", "goal", "met")
+    print("  ".join(h.ljust(w[i]) for i, h in enumerate(head)))
+    print("  ".join("-" * w[i] for i in range(6)))
+    for r in rows:
+        print("  ".join(c.ljust(w[i]) for i, c in enumerate(r)))
+
+
+if __name__ == "__main__":
+    main()
