@@ -5,7 +5,8 @@
     plyshock run SCENE.yaml -o OUTDIR            insert and run to run.t_end (-run_<key> overrides)
     plyshock run SCENE.yaml -o OUTDIR --restart OUTDIR/checkpoint.h5   resume a killed run
     plyshock verify [-o DIR] [--levels N]        error against run time (work-precision), CSV + PNG
-    plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME
+    plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME;
+                                                 --cells FIELD[:MATERIAL] draws a run step's cells under them
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
@@ -82,6 +83,14 @@ def _parser():
     pl.add_argument("--every", type=int, default=1, help="draw every n-th glyph (default 1)")
     pl.add_argument("--field", help="colour markers by a field of a run step instead of glyphs: pressure, stress (von Mises), "
                     "v (magnitude), energy, plastic_strain, temperature, damage, ...")
+    pl.add_argument("--cells", metavar="FIELD[:MATERIAL]",
+                    help="draw a run step's cell field (its grid_NNNNN.h5) under the markers: volume_fraction:MATERIAL "
+                    "(a cell material's name, e.g. volume_fraction:air), density (kg/m^3), pressure (Pa), "
+                    "specific_energy (J/kg), velocity (|v|, m/s), velocity_x, velocity_y, velocity_z; "
+                    "2D: the cell grid; 3D: the layer of cells at the y of the --zoom box's middle (with --view xz, the cut)")
+    pl.add_argument("--cells-log", action="store_true", help="logarithmic colour scale for --cells (e.g. pressure across a blast)")
+    pl.add_argument("--cells-range", type=float, nargs=2, metavar=("LO", "HI"),
+                    help="colour range of --cells, in the field's unit (default: the drawn cells' range; volume fraction 0 1)")
     hi = sub.add_parser("history", help="plot a run's history.csv (energies, momentum, peak pressure)")
     hi.add_argument("outdir")
     hi.add_argument("--png", required=True)
@@ -111,15 +120,19 @@ def main(argv=None):
             plot_history(args.outdir, args.png)
             print(f"wrote {args.png}")
             return 0
+        if args.cmd == "plot":
+            _check_cells_options(args)
+            cells = dict(cells=args.cells, cells_log=args.cells_log, cells_range=args.cells_range)
         if args.cmd == "plot" and args.field:
             from .post import plot_field
-            plot_field(args.markers, args.png, args.field, bodies=args.bodies.split(",") if args.bodies else None, zoom=args.zoom)
+            plot_field(args.markers, args.png, args.field, bodies=args.bodies.split(",") if args.bodies else None, zoom=args.zoom,
+                       view=args.view, **cells)
             print(f"wrote {args.png}")
             return 0
         if args.cmd == "plot":
             from .post import plot_markers
             plot_markers(args.markers, args.png, axis=args.axis, bodies=args.bodies.split(",") if args.bodies else None,
-                         zoom=args.zoom, color=args.color, every=args.every, view=args.view)
+                         zoom=args.zoom, color=args.color, every=args.every, view=args.view, **cells)
             print(f"wrote {args.png}")
             return 0
         if args.cmd == "verify":
@@ -146,6 +159,29 @@ def main(argv=None):
         if petsc is not None and isinstance(e, petsc.Error):
             return _petsc_error(e)
         raise
+
+
+def _check_cells_options(args):
+    """plot's --cells, --cells-log and --cells-range before any file is read:
+    DeckError naming the option and the allowed values."""
+    import math
+    from .errors import DeckError
+    from .post import parse_cells
+    if args.cells is None:
+        for k in ("cells_log", "cells_range"):
+            if getattr(args, k):
+                raise DeckError(f"--{k.replace('_', '-')}", "applies to --cells only; give --cells FIELD[:MATERIAL] too")
+        return
+    field, _ = parse_cells(args.cells)
+    r = args.cells_range
+    if r is not None:
+        if not all(math.isfinite(v) for v in r) or r[1] <= r[0]:
+            raise DeckError("--cells-range", f"{r[0]:g} {r[1]:g}: allowed two finite numbers LO < HI")
+        if args.cells_log and r[0] <= 0:
+            raise DeckError("--cells-range", f"{r[0]:g} {r[1]:g}: with --cells-log allowed 0 < LO < HI")
+    if args.cells_log and field.startswith("velocity_"):
+        raise DeckError("--cells-log", f"a logarithmic scale of {field}, which takes either sign; allowed with "
+                        "volume_fraction, density, pressure, specific_energy, velocity")
 
 
 def _table(scene, counts, masses=None):
