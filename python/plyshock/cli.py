@@ -241,14 +241,14 @@ def run_scene(scene, output, png=None, petsc_args=(), axis=1, zoom=None):
         return 2
 
 
-def run_impact(scene, outdir, petsc_args=(), zoom=None, projectile=None, cut=None):
+def run_impact(scene, outdir, petsc_args=(), zoom=None, projectile=None, cut=None, cells=None, cells_zoom=None):
     """The examples' --run: validate, start PETSc, then impact(); exit status."""
     from .errors import DeckError
     try:
         scene.validate()
         import petsc4py
         petsc4py.init([sys.argv[0]] + list(petsc_args))
-        out = impact(scene, outdir, zoom, projectile, cut)
+        out = impact(scene, outdir, zoom, projectile, cut, cells, cells_zoom)
     except DeckError as e:
         if _rank() == 0:
             print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
@@ -257,20 +257,34 @@ def run_impact(scene, outdir, petsc_args=(), zoom=None, projectile=None, cut=Non
     return 0
 
 
-def impact(scene, outdir, zoom=None, projectile=None, cut=None):
+def impact(scene, outdir, zoom=None, projectile=None, cut=None, cells=None, cells_zoom=None):
     """An impact example from layup to pictures (the method's figures): run the
     scene to run.t_end in OUTDIR, then on rank 0 draw before.png (fibre glyphs
     coloured by ply at t = 0), after.png (the turned fibre glyphs at the end),
     damage.png (the same glyphs coloured by ply damage, when a ply can fail)
     and velocity.png (the projectile's mean velocity against time).  With cut
     (a zoom box of a slab in y, 3D) the first three also in the cut, looked at
-    in the x-z plane (*_cut.png).  Returns {pngs, wall, ranks}."""
+    in the x-z plane (*_cut.png).  With cells, a list of (name, --cells value,
+    log scale, range or None), a scene with bodies in cells also gets
+    cells_<name>.png: that cell field under the markers at every output time,
+    one frame each (framed by cells_zoom, default the grid; the frames are
+    kept in OUTDIR/frames/), and history.png.  Returns {pngs, wall, ranks}."""
     from petsc4py import PETSc
     comm = PETSc.COMM_WORLD
     t0 = time.perf_counter()
     _run(scene, scene.to_yaml(), outdir)
     wall = time.perf_counter() - t0
-    pngs, err = [], None
+    pngs, err, frames = [], None, {}
+    if cells:               # every rank draws a share of the frames
+        import glob
+        try:
+            frames = cells_frames(outdir, sorted(glob.glob(os.path.join(outdir, "markers_*.h5"))), cells, cells_zoom,
+                                  comm.getRank(), comm.getSize())
+        except Exception as e:
+            err = f"{type(e).__name__}: {e}"
+        errs = [e for e in comm.tompi4py().allgather(err) if e]
+        if errs:
+            raise RuntimeError(f"cells pictures failed: {errs[0]}")
     if comm.getRank() == 0:
         try:
             import glob
@@ -284,7 +298,10 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None):
             for name, f, color, box, view in pics:
                 pngs.append(plot_markers(f, os.path.join(outdir, name + ".png"), zoom=box, color=color, view=view))
             if projectile:
-                pngs.append(plot_body_velocity(outdir, projectile, os.path.join(outdir, "velocity.png")))
+                pngs.append(plot_body_velocity(outdir, projectile, os.path.join(outdir, "velocity.png"),
+                                               gauges=[g["name"] for g in scene.gauges or []]))
+            if cells:
+                pngs += cells_montages(outdir, frames)
             for png in pngs:
                 print(f"wrote {png}", flush=True)
         except Exception as e:      # every rank raises, none waits for rank 0
@@ -293,6 +310,34 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None):
     if err:
         raise RuntimeError(f"impact pictures failed on rank 0: {err}")
     return {"pngs": comm.tompi4py().bcast(pngs, root=0), "wall": wall, "ranks": comm.getSize()}
+
+
+def cells_frames(outdir, steps, cells, zoom=None, rank=0, size=1):
+    """OUTDIR/frames/<name>_NNNNN.png for each (name, --cells value, log,
+    range) of cells and each marker file of steps: the cell field under the
+    markers (fibre glyphs by ply).  Rank r of size draws every size-th frame
+    from the r-th; returns {name: every frame's path, in time order}."""
+    from .post import plot_markers
+    os.makedirs(os.path.join(outdir, "frames"), exist_ok=True)
+    out, k = {}, 0
+    for name, spec, log, rng in cells:
+        out[name] = []
+        for f in steps:
+            n = os.path.basename(f)[len("markers_"):-len(".h5")]
+            png = os.path.join(outdir, "frames", f"{name}_{n}.png")
+            if k % size == rank:
+                plot_markers(f, png, zoom=zoom, cells=spec, cells_log=log, cells_range=rng, window=(1100, 900),
+                             title=os.path.basename(os.path.normpath(outdir)), font_size=14)
+            out[name].append(png)
+            k += 1
+    return out
+
+
+def cells_montages(outdir, frames, columns=3):
+    """cells_<name>.png (the frames side by side) and history.png in OUTDIR; their paths."""
+    from .post import montage, plot_history
+    out = [montage(f, os.path.join(outdir, f"cells_{name}.png"), columns=columns) for name, f in frames.items()]
+    return out + [plot_history(outdir, os.path.join(outdir, "history.png"))]
 
 
 def _run(scene, text, outdir, restart=None):

@@ -261,6 +261,9 @@ def plot_history(outdir, png):
     t = H["time"] * 1e6
     for k in ("kinetic", "internal", "lost_energy", "total"):
         ax[0].plot(t, H[k], label=k)
+    for k in ("remap_heat", "coupling_work"):       # with cells: booked in internal (see docs/cells.md)
+        if k in H.dtype.names:
+            ax[0].plot(t, H[k], "--", label=k)
     ax[0].set_ylabel("energy (J; J/m in 2D)")
     for k in ("px", "py", "pz"):
         if k in H.dtype.names:
@@ -268,6 +271,8 @@ def plot_history(outdir, png):
     ax[1].set_ylabel("momentum (kg m/s)")
     ax[2].plot(t, H["max_pressure"] / 1e9)
     ax[2].set_ylabel("max pressure (GPa)")
+    if "coupling_work" in H.dtype.names and np.all(H["max_pressure"] > 0):
+        ax[2].set_yscale("log")
     for a in ax:
         a.set_xlabel("time (us)")
         a.grid(alpha=0.3)
@@ -277,12 +282,37 @@ def plot_history(outdir, png):
     fig.suptitle(f"{outdir}: {int(H['step'][-1])} steps, energy drift {100 * drift:.2f}%")
     fig.tight_layout()
     fig.savefig(png, dpi=100)
+    plt.close(fig)
     return png
 
 
-def plot_body_velocity(outdir, body, png):
+def montage(pngs, png, columns=3, width=2400):
+    """Pictures side by side, `columns` to a row, in one PNG about `width`
+    pixels wide (each keeps its own title and colour bars)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.image as mpimg
+    import matplotlib.pyplot as plt
+    imgs = [mpimg.imread(f) for f in pngs]
+    cols = min(columns, len(imgs))
+    rows = -(-len(imgs) // cols)
+    h, w = imgs[0].shape[:2]
+    dpi = 100
+    fig = plt.figure(figsize=(width / dpi, width / dpi * rows * h / (cols * w)), dpi=dpi)
+    for k, im in enumerate(imgs):
+        ax = fig.add_axes([(k % cols) / cols, 1 - (k // cols + 1) / rows, 1 / cols, 1 / rows])
+        ax.imshow(im)
+        ax.set_axis_off()
+    fig.savefig(png, dpi=dpi)
+    plt.close(fig)
+    return png
+
+
+def plot_body_velocity(outdir, body, png, gauges=None):
     """A body's mean velocity against time from OUTDIR/bodies.csv (the
-    projectile's residual velocity is its last value)."""
+    projectile's residual velocity is its last value); with gauges (names of
+    the run's gauges, gauges.csv), the last velocity component (vy in 2D, vz
+    in 3D) of the marker each follows too."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -294,14 +324,19 @@ def plot_body_velocity(outdir, body, png):
     fig, ax = plt.subplots(figsize=(7, 4.2))
     t = b["time"] * 1e6
     for k in comps:
-        ax.plot(t, b[k], label=k)
+        ax.plot(t, b[k], label=f"{k} (mean)")
     speed = np.sqrt(sum(b[k] ** 2 for k in comps))
-    ax.plot(t, speed, "k--", label="|v|")
+    ax.plot(t, speed, "k--", label="|v| (mean)")
+    if gauges:
+        G = np.genfromtxt(f"{outdir}/gauges.csv", delimiter=",", names=True, dtype=None, encoding=None)
+        for k, name in enumerate(gauges):
+            g = G[G["gauge"] == k]
+            ax.plot(g["time"] * 1e6, g[comps[-1]], ":", lw=2, label=f"{comps[-1]} at gauge {name}")
     ax.set_xlabel("time (us)")
-    ax.set_ylabel(f"{body} mean velocity (m/s)")
+    ax.set_ylabel(f"{body} velocity (m/s)")
     ax.grid(alpha=0.3)
-    ax.legend()
-    ax.set_title(f"{body}: {speed[0]:.1f} m/s at t = 0, {speed[-1]:.1f} m/s at {t[-1]:.2f} us")
+    ax.legend(fontsize=8)
+    ax.set_title(f"{body}: mean {speed[0]:.1f} m/s at t = 0, {speed[-1]:.1f} m/s at {t[-1]:.2f} us")
     fig.tight_layout()
     fig.savefig(png, dpi=100)
     plt.close(fig)
@@ -309,7 +344,7 @@ def plot_body_velocity(outdir, body, png):
 
 
 def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1, window=(1600, 1100), view=None,
-                 cells=None, cells_log=False, cells_range=None, title=None):
+                 cells=None, cells_log=False, cells_range=None, title=None, font_size=10):
     """Render the markers of `path` to `png`; returns the png path.
 
     color: ply, body or material (categorical), or damage (a ply marker's
@@ -318,7 +353,7 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
     cells: a --cells value (e.g. "pressure", "volume_fraction:air"): that cell
     field of the step's grid file drawn under the markers (read_cells), with
     cells_log a logarithmic colour scale and cells_range (lo, hi) its range.
-    title: a line of text in place of the file name."""
+    title: a line of text in place of the file name; font_size: its size."""
     cf = read_cells(path, cells) if cells else None      # bad input first, before pyvista starts
     import pyvista as pv
     pv.OFF_SCREEN = True
@@ -405,7 +440,7 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
             f"glyphs = material axis {axis}, colour = {color}")
     if cf is not None:
         text += f"\n{cf['caption']}"
-    p.add_text(text, font_size=10, color="black")
+    p.add_text(text, font_size=font_size, color="black")
     if dim == 2:
         p.view_xy()
     elif view == "xz":
