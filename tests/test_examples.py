@@ -129,3 +129,129 @@ def test_sphere_plate_3d_impact_end_to_end(tmpdir_mpi):
     assert len(out["pngs"]) == 7
     ok = all(picture_ok(p, 3) for p in out["pngs"]) if COMM.rank == 0 else None
     assert COMM.bcast(ok, root=0)
+
+
+# ---------------------------------------------------------------- in cells --
+# Issue 12's examples with the Eulerian host: a blast in a closed chamber on a
+# panel, and the oblique plate in air.  The energy bounds are what the solver
+# gives today, measured (see the README's section on cells): the total less the
+# booked coupling work (the work of fitting cell materials beside the markers)
+# dips by about 3% in the first microseconds and stays there.
+ENERGY_BOUND = 0.04          # |total - coupling_work - total(0)| / total(0)
+
+
+def _cells_history(tmp):
+    """history.csv, with mass + lost_mass constant to 1e-12 of the mass on every row."""
+    H = np.genfromtxt(os.path.join(tmp, "history.csv"), delimiter=",", names=True)
+    booked = H["mass"] + H["lost_mass"]
+    assert np.abs(booked - booked[0]).max() <= 1e-12 * booked[0], np.abs(booked - booked[0]).max() / booked[0]
+    assert {"remap_heat", "coupling_work"} <= set(H.dtype.names)
+    return H
+
+
+def _picture_stats(png):
+    import matplotlib.image as mpimg
+    img = mpimg.imread(png)[..., :3]
+    return img.mean(axis=(0, 1)), img.std()
+
+
+def test_blast_panel_2d_end_to_end(tmpdir_mpi):
+    """The blast example to 30 us (the panel's fastest motion), 2 ranks:
+    the initial energy is the charge's p V / (gamma - 1) and the air's, exact
+    to the disk's volume tolerance; mass booked exactly; the chamber's walls
+    let nothing out but discarded traces; the panel pushed down (its centre
+    faster than its mean), its supports held on the floor; energy within
+    ENERGY_BOUND; the pictures drawn, cells fields differing."""
+    import blast_panel_2d as bp
+    from plyshock.cli import impact
+    scene = bp.setup(t_end=30e-6, output_interval=15e-6).validate()
+    out = impact(scene, tmpdir_mpi, bp.ZOOM, "panel", cells=bp.CELLS)
+    H = _cells_history(tmpdir_mpi)
+    # t = 0: the charge (half disk, 50 MPa) and the air (101325 Pa) in the rest of the chamber, minus the markers' area
+    E_charge = bp.charge_energy(scene)
+    assert abs(E_charge - 50e6 * 0.5 * np.pi * 4e-3 ** 2 / 0.4) < 1e-9 * E_charge
+    A_air = 0.05 * 0.04 - 0.5 * np.pi * 4e-3 ** 2 - 0.040 * 2e-3 - 0.008 * 0.010
+    E0 = E_charge + 101325.0 / 0.4 * A_air
+    assert abs(H["internal"][0] - E0) <= 1e-6 * E0, (H["internal"][0], E0)
+    assert H["kinetic"][0] == 0.0
+    # closed chamber: only traces discarded by the remap are booked, and they are tiny
+    assert H["lost_mass"][-1] < 1e-6 * H["mass"][0]
+    # energy: the total less the booked coupling work, within the bound on every row
+    rel = (H["total"] - H["coupling_work"] - H["total"][0]) / H["total"][0]
+    assert np.abs(rel).max() < ENERGY_BOUND, np.abs(rel).max()
+    assert H["coupling_work"][-1] < 0.01 * H["total"][0]
+    # the panel moves in the blast direction (-y): mean speed peaks at 10.8 m/s at 25 us on these 1 mm cells
+    B = np.genfromtxt(os.path.join(tmpdir_mpi, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
+    P, S = B[B["body"] == "panel"], B[B["body"] == "support"]
+    assert P["vy"][0] == 0.0 and -13.0 < P["vy"].min() < -8.0, P["vy"].min()
+    assert np.abs(S["vy"]).max() < 0.1 * np.abs(P["vy"]).max()       # the supports stand on the floor
+    G = np.genfromtxt(os.path.join(tmpdir_mpi, "gauges.csv"), delimiter=",", names=True)
+    centre = G[G["gauge"] == 0]
+    assert centre["vy"].min() < 1.5 * P["vy"].min()                  # the centre, under the charge, moves fastest
+    assert centre["y"][-1] < centre["y"][0] - 1e-4                   # and has moved down by more than 0.1 mm
+    names = sorted(os.path.basename(p) for p in out["pngs"])
+    assert names == ["after.png", "before.png", "cells_pressure.png", "cells_products.png", "damage.png", "history.png",
+                     "velocity.png"]
+    res = None
+    if COMM.rank == 0:
+        ok = all(picture_ok(p, 3) for p in out["pngs"])
+        frames = sorted(os.listdir(os.path.join(tmpdir_mpi, "frames")))
+        (m1, s1), (m2, s2) = (_picture_stats(os.path.join(tmpdir_mpi, f"cells_{n}.png")) for n in ("pressure", "products"))
+        res = (ok, frames, float(np.abs(m1 - m2).max()))
+    ok, frames, diff = COMM.bcast(res, root=0)
+    assert ok and diff > 0.02, diff
+    assert frames == [f"{n}_{k:05d}.png" for n in ("pressure", "products") for k in range(3)]
+    xdmf = open(os.path.join(tmpdir_mpi, "cells.xdmf")).read()
+    assert 'Name="volume_fraction_products"' in xdmf and 'Name="volume_fraction_air"' in xdmf
+
+
+def test_oblique_plate_2d_in_air_end_to_end(tmpdir_mpi):
+    """The oblique plate with --air at its default size (96 x 64) to 8 us, 2 ranks: the air's
+    initial energy, every cell of pure air at 101325 Pa; mass booked
+    exactly; the flyer slowed, and by the air a little more than in vacuum;
+    the plies failed near the impact; energy within ENERGY_BOUND; cells and
+    markers drawn together."""
+    from plyshock.cli import impact
+    from plyshock.post import read_cells
+    scene = oblique_plate_2d.setup(cells=(96, 64), air=True).validate()           # the example's --air default
+    assert [b.name for b in scene.bodies] == ["air", "plate", "flyer"] and scene.cell_materials == [2]
+    out = impact(scene, tmpdir_mpi, oblique_plate_2d.ZOOM, "flyer", cells=oblique_plate_2d.CELLS,
+                 cells_zoom=oblique_plate_2d.CELLS_ZOOM)
+    H = _cells_history(tmpdir_mpi)
+    # the air fills the grid less the markers' area: to 1e-4 (measured 1.1e-5: the oblique plate's
+    # cells are shared between the air's exact fractions and the markers' deposited boxes)
+    A_air = 0.060 * 0.040 - 0.040 * 2e-3 - 0.008 * 0.003
+    assert abs(H["internal"][0] - 101325.0 / 0.4 * A_air) <= 1e-4 * H["internal"][0]
+    rel = (H["total"] - H["coupling_work"] - H["total"][0]) / H["total"][0]
+    assert np.abs(rel).max() < ENERGY_BOUND, np.abs(rel).max()
+    # the fit's work on the air trapped between flyer and plate (measured 1.75% of the total; see the README)
+    assert H["coupling_work"][-1] < 0.03 * H["total"][0], H["coupling_work"][-1]
+    B = np.genfromtxt(os.path.join(tmpdir_mpi, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
+    fl = B[B["body"] == "flyer"]
+    assert np.isclose(fl["vy"][0], -400.0, rtol=1e-12) and -400.0 < fl["vy"][-1] < 0.0
+    # the air slows the flyer a little more than the plate alone does: the same scene in vacuum ends
+    # 0.19 m/s faster (the air's push, about 0.4 MPa ahead and 15 kPa in the wake of an 8 x 3 mm steel
+    # flyer over 8 us, gives about 0.13 m/s)
+    from plyshock.cli import _run
+    vac = oblique_plate_2d.setup(cells=(96, 64)).validate()
+    _run(vac, vac.to_yaml(), os.path.join(tmpdir_mpi, "vacuum"))
+    V = np.genfromtxt(os.path.join(tmpdir_mpi, "vacuum", "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
+    dv = fl["vy"][-1] - V[V["body"] == "flyer"]["vy"][-1]
+    assert 0.05 < dv < 1.0, dv
+    steps = sorted(f for f in os.listdir(tmpdir_mpi) if f.startswith("markers_"))
+    res = None
+    if COMM.rank == 0:
+        with h5py.File(os.path.join(tmpdir_mpi, steps[-1]), "r") as f:
+            dmg, ply = f["markers/damage"][...], f["markers/ply"][...]
+        c0 = read_cells(os.path.join(tmpdir_mpi, steps[0]), "pressure")["values"]
+        f0 = read_cells(os.path.join(tmpdir_mpi, steps[0]), "volume_fraction:air")["values"]
+        pure = np.abs(f0 - 1.0) < 1e-12
+        res = (float(dmg[ply >= 0].max()), float(dmg[ply < 0].max()), int(pure.sum()),
+               float(np.abs(c0[pure] - 101325.0).max()), all(picture_ok(p, 3) for p in out["pngs"]))
+    dmax, dfly, npure, perr, ok = COMM.bcast(res, root=0)
+    assert dmax == 1.0 and dfly == 0.0
+    assert npure > 0.9 * 96 * 64 and perr <= 1e-9 * 101325.0
+    names = sorted(os.path.basename(p) for p in out["pngs"])
+    assert names == ["after.png", "before.png", "cells_air.png", "cells_pressure.png", "damage.png", "history.png",
+                     "velocity.png"]
+    assert ok

@@ -6,7 +6,8 @@
     plyshock run SCENE.yaml -o OUTDIR --restart OUTDIR/checkpoint.h5   resume a killed run
     plyshock verify [-o DIR] [--levels N] [--docs DIR] [--only S,..] [--taylor [CELL ...]]
                                                  work-precision, insertion study, Taylor bar; CSV + PNG
-    plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME
+    plyshock plot OUT.h5 --png FILE [...]        orientation glyphs coloured by ply, or --field NAME;
+                                                 --cells FIELD[:MATERIAL] draws a run step's cells under them
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
@@ -91,6 +92,14 @@ def _parser():
     pl.add_argument("--every", type=int, default=1, help="draw every n-th glyph (default 1)")
     pl.add_argument("--field", help="colour markers by a field of a run step instead of glyphs: pressure, stress (von Mises), "
                     "v (magnitude), energy, plastic_strain, temperature, damage, ...")
+    pl.add_argument("--cells", metavar="FIELD[:MATERIAL]",
+                    help="draw a run step's cell field (its grid_NNNNN.h5) under the markers: volume_fraction:MATERIAL "
+                    "(a cell material's name, e.g. volume_fraction:air), density (kg/m^3), pressure (Pa), "
+                    "specific_energy (J/kg), velocity (|v|, m/s), velocity_x, velocity_y, velocity_z; "
+                    "2D: the cell grid; 3D: the layer of cells at the y of the --zoom box's middle (with --view xz, the cut)")
+    pl.add_argument("--cells-log", action="store_true", help="logarithmic colour scale for --cells (e.g. pressure across a blast)")
+    pl.add_argument("--cells-range", type=float, nargs=2, metavar=("LO", "HI"),
+                    help="colour range of --cells, in the field's unit (default: the drawn cells' range; volume fraction 0 1)")
     hi = sub.add_parser("history", help="plot a run's history.csv (energies, momentum, peak pressure)")
     hi.add_argument("outdir")
     hi.add_argument("--png", required=True)
@@ -120,15 +129,19 @@ def main(argv=None):
             plot_history(args.outdir, args.png)
             print(f"wrote {args.png}")
             return 0
+        if args.cmd == "plot":
+            _check_cells_options(args)
+            cells = dict(cells=args.cells, cells_log=args.cells_log, cells_range=args.cells_range)
         if args.cmd == "plot" and args.field:
             from .post import plot_field
-            plot_field(args.markers, args.png, args.field, bodies=args.bodies.split(",") if args.bodies else None, zoom=args.zoom)
+            plot_field(args.markers, args.png, args.field, bodies=args.bodies.split(",") if args.bodies else None, zoom=args.zoom,
+                       view=args.view, **cells)
             print(f"wrote {args.png}")
             return 0
         if args.cmd == "plot":
             from .post import plot_markers
             plot_markers(args.markers, args.png, axis=args.axis, bodies=args.bodies.split(",") if args.bodies else None,
-                         zoom=args.zoom, color=args.color, every=args.every, view=args.view)
+                         zoom=args.zoom, color=args.color, every=args.every, view=args.view, **cells)
             print(f"wrote {args.png}")
             return 0
         if args.cmd == "verify":
@@ -162,6 +175,29 @@ def main(argv=None):
         if petsc is not None and isinstance(e, petsc.Error):
             return _petsc_error(e)
         raise
+
+
+def _check_cells_options(args):
+    """plot's --cells, --cells-log and --cells-range before any file is read:
+    DeckError naming the option and the allowed values."""
+    import math
+    from .errors import DeckError
+    from .post import parse_cells
+    if args.cells is None:
+        for k in ("cells_log", "cells_range"):
+            if getattr(args, k):
+                raise DeckError(f"--{k.replace('_', '-')}", "applies to --cells only; give --cells FIELD[:MATERIAL] too")
+        return
+    field, _ = parse_cells(args.cells)
+    r = args.cells_range
+    if r is not None:
+        if not all(math.isfinite(v) for v in r) or r[1] <= r[0]:
+            raise DeckError("--cells-range", f"{r[0]:g} {r[1]:g}: allowed two finite numbers LO < HI")
+        if args.cells_log and r[0] <= 0:
+            raise DeckError("--cells-range", f"{r[0]:g} {r[1]:g}: with --cells-log allowed 0 < LO < HI")
+    if args.cells_log and field.startswith("velocity_"):
+        raise DeckError("--cells-log", f"a logarithmic scale of {field}, which takes either sign; allowed with "
+                        "volume_fraction, density, pressure, specific_energy, velocity")
 
 
 def _table(scene, counts, masses=None):
@@ -221,14 +257,14 @@ def run_scene(scene, output, png=None, petsc_args=(), axis=1, zoom=None):
         return 2
 
 
-def run_impact(scene, outdir, petsc_args=(), zoom=None, projectile=None, cut=None):
+def run_impact(scene, outdir, petsc_args=(), zoom=None, projectile=None, cut=None, cells=None, cells_zoom=None):
     """The examples' --run: validate, start PETSc, then impact(); exit status."""
     from .errors import DeckError
     try:
         scene.validate()
         import petsc4py
         petsc4py.init([sys.argv[0]] + list(petsc_args))
-        out = impact(scene, outdir, zoom, projectile, cut)
+        out = impact(scene, outdir, zoom, projectile, cut, cells, cells_zoom)
     except DeckError as e:
         if _rank() == 0:
             print(f"plyshock: error: {e}", file=sys.stderr, flush=True)
@@ -237,20 +273,34 @@ def run_impact(scene, outdir, petsc_args=(), zoom=None, projectile=None, cut=Non
     return 0
 
 
-def impact(scene, outdir, zoom=None, projectile=None, cut=None):
+def impact(scene, outdir, zoom=None, projectile=None, cut=None, cells=None, cells_zoom=None):
     """An impact example from layup to pictures (the method's figures): run the
     scene to run.t_end in OUTDIR, then on rank 0 draw before.png (fibre glyphs
     coloured by ply at t = 0), after.png (the turned fibre glyphs at the end),
     damage.png (the same glyphs coloured by ply damage, when a ply can fail)
     and velocity.png (the projectile's mean velocity against time).  With cut
     (a zoom box of a slab in y, 3D) the first three also in the cut, looked at
-    in the x-z plane (*_cut.png).  Returns {pngs, wall, ranks}."""
+    in the x-z plane (*_cut.png).  With cells, a list of (name, --cells value,
+    log scale, range or None), a scene with bodies in cells also gets
+    cells_<name>.png: that cell field under the markers at every output time,
+    one frame each (framed by cells_zoom, default the grid; the frames are
+    kept in OUTDIR/frames/), and history.png.  Returns {pngs, wall, ranks}."""
     from petsc4py import PETSc
     comm = PETSc.COMM_WORLD
     t0 = time.perf_counter()
     _run(scene, scene.to_yaml(), outdir)
     wall = time.perf_counter() - t0
-    pngs, err = [], None
+    pngs, err, frames = [], None, {}
+    if cells:               # every rank draws a share of the frames
+        import glob
+        try:
+            frames = cells_frames(outdir, sorted(glob.glob(os.path.join(outdir, "markers_*.h5"))), cells, cells_zoom,
+                                  comm.getRank(), comm.getSize())
+        except Exception as e:
+            err = f"{type(e).__name__}: {e}"
+        errs = [e for e in comm.tompi4py().allgather(err) if e]
+        if errs:
+            raise RuntimeError(f"cells pictures failed: {errs[0]}")
     if comm.getRank() == 0:
         try:
             import glob
@@ -264,7 +314,10 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None):
             for name, f, color, box, view in pics:
                 pngs.append(plot_markers(f, os.path.join(outdir, name + ".png"), zoom=box, color=color, view=view))
             if projectile:
-                pngs.append(plot_body_velocity(outdir, projectile, os.path.join(outdir, "velocity.png")))
+                pngs.append(plot_body_velocity(outdir, projectile, os.path.join(outdir, "velocity.png"),
+                                               gauges=[g["name"] for g in scene.gauges or []]))
+            if cells:
+                pngs += cells_montages(outdir, frames)
             for png in pngs:
                 print(f"wrote {png}", flush=True)
         except Exception as e:      # every rank raises, none waits for rank 0
@@ -273,6 +326,34 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None):
     if err:
         raise RuntimeError(f"impact pictures failed on rank 0: {err}")
     return {"pngs": comm.tompi4py().bcast(pngs, root=0), "wall": wall, "ranks": comm.getSize()}
+
+
+def cells_frames(outdir, steps, cells, zoom=None, rank=0, size=1):
+    """OUTDIR/frames/<name>_NNNNN.png for each (name, --cells value, log,
+    range) of cells and each marker file of steps: the cell field under the
+    markers (fibre glyphs by ply).  Rank r of size draws every size-th frame
+    from the r-th; returns {name: every frame's path, in time order}."""
+    from .post import plot_markers
+    os.makedirs(os.path.join(outdir, "frames"), exist_ok=True)
+    out, k = {}, 0
+    for name, spec, log, rng in cells:
+        out[name] = []
+        for f in steps:
+            n = os.path.basename(f)[len("markers_"):-len(".h5")]
+            png = os.path.join(outdir, "frames", f"{name}_{n}.png")
+            if k % size == rank:
+                plot_markers(f, png, zoom=zoom, cells=spec, cells_log=log, cells_range=rng, window=(1100, 900),
+                             title=os.path.basename(os.path.normpath(outdir)), font_size=14)
+            out[name].append(png)
+            k += 1
+    return out
+
+
+def cells_montages(outdir, frames, columns=3):
+    """cells_<name>.png (the frames side by side) and history.png in OUTDIR; their paths."""
+    from .post import montage, plot_history
+    out = [montage(f, os.path.join(outdir, f"cells_{name}.png"), columns=columns) for name, f in frames.items()]
+    return out + [plot_history(outdir, os.path.join(outdir, "history.png"))]
 
 
 def _run(scene, text, outdir, restart=None):
