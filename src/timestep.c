@@ -61,6 +61,36 @@ PetscReal PSSolverCFLTimeStep(const PSSolver *S)
   return S->run.cfl * hmin / PetscMax(S->smax, 1e-300);
 }
 
+/* The guard has tripped and cells are in the scene: when a cell sets the
+   step (its speed is the global one), stop naming it, its place and state;
+   otherwise return (a marker sets it). */
+static PetscErrorCode DtFloorCellError(PSSolver *S, PetscReal dt)
+{
+  MPI_Comm        comm = PetscObjectComm((PetscObject)S->sw);
+  const PSCells  *C    = S->cells;
+  PetscReal       sat[7];
+  PetscMPIInt     rank;
+  struct {
+    double v;
+    int    r;
+  } loc, glob;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  loc.v = C->smax;
+  loc.r = rank;
+  PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm));
+  if (glob.v < S->smax) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscArraycpy(sat, C->sat, 7));
+  PetscCallMPI(MPI_Bcast(sat, 7, MPIU_REAL, glob.r, comm));
+  SETERRQ(comm, PS_ERR_RUN,
+          "run.dt_floor: the time step fell to %g s at step %" PetscInt_FMT " (t = %g s), below %g of the run's first step %g s. "
+          "The cell at (%g, %g, %g) m limits it: sound speed %g + |v| %g + viscous term %g m/s, density %g kg/m^3%s. "
+          "Check the deck's pressures and material data, lower run.cfl or refine the grid; run.dt_floor: 0 lets the run go on",
+          (double)dt, S->step, (double)S->t, (double)S->run.dt_floor, (double)S->dt0, (double)sat[0], (double)sat[1], (double)sat[2], (double)sat[3], (double)sat[4], (double)sat[5], (double)sat[6],
+          sat[5] > 0.25 * (sat[3] + sat[4] + sat[5]) ? " (its artificial viscosity dominates: a strong compression in one step)" : "");
+}
+
 /* The guard has tripped (on every rank: smax is global): find the marker with
    the largest speed over all ranks and stop with its id, place and state. */
 static PetscErrorCode DtFloorError(PSSolver *S, PetscReal dt)
@@ -78,8 +108,11 @@ static PetscErrorCode DtFloorError(PSSolver *S, PetscReal dt)
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (S->cells) PetscCall(DtFloorCellError(S, dt)); /* the cells set the step: name the cell */
   PetscCall(PSFieldsGet(S, &f));
-  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
+  /* the body field: PSFieldsGet holds it already in scenes with plies */
+  if (f.body) body = f.body;
+  else PetscCall(DMSwarmGetField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
   for (p = 0; p < f.n; p++) {
     PetscReal v;
     PetscCall(MarkerSpeed(S, &f, p, s));
@@ -104,7 +137,7 @@ static PetscErrorCode DtFloorError(PSSolver *S, PetscReal dt)
     for (d = 0; d < S->dim; d++) info[8 + d] = f.x[best * S->dim + d];
     info[11] = 1.0;
   }
-  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
+  if (!f.body) PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
   PetscCall(PSFieldsRestore(S, &f));
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm));
   PetscCallMPI(MPI_Bcast(info, 12, MPIU_REAL, glob.r, comm));

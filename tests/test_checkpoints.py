@@ -91,7 +91,11 @@ def test_a_killed_run_resumes_from_its_last_checkpoint_bitwise(tmpdir_mpi):
     checkpoint exists; `--restart OUTDIR/checkpoint.h5` into the same OUTDIR
     ends with the same marker files, bitwise, as an uninterrupted run, and the
     same history rows."""
-    d = dict(PLATE, run=dict(PLATE["run"], checkpoint_wall_interval=0.2))
+    # ten times the plate's markers (a 40-cell-tall strip between symmetry faces: the same 1D answer), so
+    # that the run outlives its first checkpoint by seconds on a fast machine too (CI once finished first)
+    grid = dict(PLATE["grid"], upper=[0.01, 0.003], cells=[200, 40])
+    bodies = [dict(b, box={"lower": b["box"]["lower"], "upper": [b["box"]["upper"][0], 0.003]}) for b in PLATE["bodies"]]
+    d = dict(PLATE, grid=grid, bodies=bodies, run=dict(PLATE["run"], checkpoint_wall_interval=0.2))
     deck = write_deck(os.path.join(tmpdir_mpi, "plate.yaml"), d)
     full, killed = os.path.join(tmpdir_mpi, "full"), os.path.join(tmpdir_mpi, "killed")
     rc, so, se = run_cli(["run", deck, "-o", full], ranks=2)
@@ -99,7 +103,7 @@ def test_a_killed_run_resumes_from_its_last_checkpoint_bitwise(tmpdir_mpi):
     res = None
     if COMM.rank == 0:
         ckpt = os.path.join(killed, "checkpoint.h5")
-        alive, out = kill_when_checkpointed(["run", deck, "-o", killed], ckpt, after=0.5)
+        alive, out = kill_when_checkpointed(["run", deck, "-o", killed], ckpt, after=0.1)
         with h5py.File(ckpt, "r") as f:
             t_ckpt = float(f["checkpoint/state"][0])
         res = (alive, out, t_ckpt, len(glob.glob(os.path.join(killed, "markers_*.h5"))))

@@ -87,7 +87,11 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PSGridIndex(S->da, &ix));
   for (d = 0; d < 3; d++) nn *= ix.gm[d];
   C->nnl = nn;
-  PetscCall(PetscCalloc4(nn * S->dim, &C->P, nn * S->dim, &C->Pn, nn, &C->mcn, nn * S->dim, &C->vh));
+  /* P and Pn apart: each sweep swaps them (one block for both would be freed
+     through the wrong pointer after an odd number of sweeps, as in 3D) */
+  PetscCall(PetscCalloc1(nn * S->dim, &C->P));
+  PetscCall(PetscCalloc1(nn * S->dim, &C->Pn));
+  PetscCall(PetscCalloc2(nn, &C->mcn, nn * S->dim, &C->vh));
   PetscCall(PSHaloCreate(S, S->dim, &C->sfp));
   S->cells = C;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -98,7 +102,9 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscFunctionBeginUser;
   if (!*C) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFree2((*C)->u, (*C)->un));
-  PetscCall(PetscFree4((*C)->P, (*C)->Pn, (*C)->mcn, (*C)->vh));
+  PetscCall(PetscFree((*C)->P));
+  PetscCall(PetscFree((*C)->Pn));
+  PetscCall(PetscFree2((*C)->mcn, (*C)->vh));
   PetscCall(PetscSFDestroy(&(*C)->sfu));
   PetscCall(PetscSFDestroy(&(*C)->sfd));
   PetscCall(PetscFree((*C)->dep));

@@ -74,6 +74,7 @@ typedef struct PSCells_ {
   PetscReal coupling_work;        /* this rank: work of fitting cell materials around the markers (J) */
   PetscReal discarded;            /* this rank: mass of traces discarded by the remap (kg; booked in lost_mass) */
   PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
+  PetscReal sat[7];               /* the cell that sets it: centre x (m, 3), c, |v|, viscous term (m/s), density (kg/m^3) */
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */
 } PSCells;
 

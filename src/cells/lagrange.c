@@ -232,6 +232,23 @@ static PetscErrorCode Deviator(const PSMaterial *M, PetscInt dim, const PetscRea
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* the largest signal speed so far, and the cell that has it (C->sat, for
+   the time step's guard); a NaN speed always wins */
+static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k, PetscReal c, PetscReal v, PetscReal sq, PetscReal rho, PetscReal *smax)
+{
+  PSCells       *C      = S->cells;
+  const PetscInt ijk[3] = {i, j, k};
+  PetscInt       d;
+  if (c + v + sq <= *smax) return;
+  *smax = c + v + sq;
+  if (!(*smax == *smax)) *smax = PETSC_MAX_REAL;
+  for (d = 0; d < 3; d++) C->sat[d] = d < S->dim ? S->scene->lower[d] + (ijk[d] + 0.5) * S->h[d] : 0.0;
+  C->sat[3] = c;
+  C->sat[4] = v;
+  C->sat[5] = sq;
+  C->sat[6] = rho;
+}
+
 PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
 {
   PSCells        *C = S->cells;
@@ -316,10 +333,21 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
           PetscCall(M->eos_fn(M, J, p0, dVk[m] / blk[PS_CV], &A, &B, &c2));
           /* e1 = e0 + w - a ((p0 + p1)/2 + q), a = dV_k / M_k; hourglass heat by mass share */
           PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM] + hgw / Mc, wdev * V1 / blk[PS_CM], dVk[m] / blk[PS_CM], p0, A, B, q, &e1, &p1);
+          /* an ideal gas holds no negative energy: a trace the closure expands
+             several-fold in one step would reach e < 0 (p < 0, no sound
+             speed); it is set to 0 and what that adds booked (a negative loss) */
+          if (M->gamma > 0.0 && e1 < 0.0) {
+            S->lost_local.internal += blk[PS_CM] * e1;
+            e1 = 0.0;
+          }
           blk[PS_CV] = V1;
           blk[PS_CE] = blk[PS_CM] * e1;
         }
-        smax = PetscMax(smax, cmax + vmax + (q > 0.0 ? q / (rho * PetscMax(cmax, 1e-300)) : 0.0));
+        /* the viscous term q/(rho c) (as the markers'), with c kept at least
+           sqrt(q/rho)/2 so a cold gas (c -> 0) does not stop the run: for
+           q = rho c_q du^2 the term is then at most 2 sqrt(c_q) du, the
+           order of the quadratic viscosity's own explicit limit h/(2 c_q du) */
+        Fastest(S, i, j, k, cmax, vmax, q > 0.0 ? q / (rho * PetscMax(cmax, 0.5 * PetscSqrtReal(q / rho))) : 0.0, rho, &smax);
       }
   C->smax = smax;
   PetscCall(PetscLogEventEnd(EV_Lag, 0, 0, 0, 0));
@@ -351,7 +379,7 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
           for (d = 0; d < S->dim; d++) v2 += C->mcn[o] > 0.0 ? PetscSqr(C->P[S->dim * o + d] / C->mcn[o]) : 0.0;
           vmax = PetscMax(vmax, PetscSqrtReal(v2));
         }
-        smax = PetscMax(smax, cmax + vmax);
+        Fastest(S, i, j, k, cmax, vmax, 0.0, Mc / Vm, &smax);
       }
   C->smax = smax;
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -41,6 +41,7 @@
 static PetscLogEvent EV_Remap = 0, EV_Faces, EV_Nodes, EV_Update, EV_Halo, EV_KE;
 
 #define PS_DISCARD 1e-6 /* volume fraction below which a cell material is discarded (booked) */
+#define PS_RHO_MIN 1e-6 /* density, relative to the material's reference, below which it is discarded (booked) */
 
 static inline PetscReal VanLeer(PetscReal a, PetscReal b)
 {
@@ -403,8 +404,11 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
         for (m = 0; m < nm; m++) {
           /* traces below PS_DISCARD of the cell (a round-off residue, or what a
              face flux leaves behind against a marker body) are discarded, as
-             CTH does, their mass and internal energy booked as lost */
-          if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= PS_DISCARD * C->Vc) {
+             CTH does, their mass and internal energy booked as lost; so is a
+             volume with next to no mass (below PS_RHO_MIN of the reference
+             density: a face flux's volume outran its mass), which the next
+             compression would heat without bound, q dV / M_k */
+          if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= PS_DISCARD * C->Vc || u[m * ms + PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * u[m * ms + PS_CV]) {
             S->lost_local.mass += u[m * ms + PS_CM];
             S->lost_local.internal += u[m * ms + PS_CE];
             C->discarded += u[m * ms + PS_CM];
