@@ -184,3 +184,14 @@ def test_cells_bad_input(tmpdir_mpi):
     # --help says what --cells takes
     rc, out, err = run_cli(["plot", "--help"])
     assert rc == 0 and "--cells FIELD[:MATERIAL]" in out and "volume_fraction:MATERIAL" in out
+
+
+def test_captions_state_the_real_marker_counts():
+    """Issue 16 item 4: a picture's caption gives the file's marker count, and
+    when a zoom box or a cut shows only some, how many of how many (the oblique
+    example's "before" once said 3686 markers of a file holding 8418)."""
+    from plyshock.post import _count
+    keep = np.ones(8418, bool)
+    assert _count(keep) == "8,418 markers"
+    keep[3686:] = False
+    assert _count(keep) == "3,686 of 8,418 markers shown"

@@ -179,7 +179,7 @@ def test_blast_panel_2d_end_to_end(tmpdir_mpi):
     # energy: the total less the booked coupling work, within the bound on every row
     rel = (H["total"] - H["coupling_work"] - H["total"][0]) / H["total"][0]
     assert np.abs(rel).max() < ENERGY_BOUND, np.abs(rel).max()
-    assert H["coupling_work"][-1] < 0.01 * H["total"][0]
+    assert H["coupling_work"][-1] < 1e-3 * H["total"][0]
     # the panel moves in the blast direction (-y): mean speed peaks at 10.8 m/s at 25 us on these 1 mm cells
     B = np.genfromtxt(os.path.join(tmpdir_mpi, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
     P, S = B[B["body"] == "panel"], B[B["body"] == "support"]
@@ -224,13 +224,13 @@ def test_oblique_plate_2d_in_air_end_to_end(tmpdir_mpi):
     assert abs(H["internal"][0] - 101325.0 / 0.4 * A_air) <= 1e-4 * H["internal"][0]
     rel = (H["total"] - H["coupling_work"] - H["total"][0]) / H["total"][0]
     assert np.abs(rel).max() < ENERGY_BOUND, np.abs(rel).max()
-    # the fit's work on the air trapped between flyer and plate (measured 1.75% of the total; see the README)
-    assert H["coupling_work"][-1] < 0.03 * H["total"][0], H["coupling_work"][-1]
+    # the fit's work on the air trapped between flyer and plate (measured 1.1% of the total; see the README)
+    assert H["coupling_work"][-1] < 0.02 * H["total"][0], H["coupling_work"][-1]
     B = np.genfromtxt(os.path.join(tmpdir_mpi, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
     fl = B[B["body"] == "flyer"]
     assert np.isclose(fl["vy"][0], -400.0, rtol=1e-12) and -400.0 < fl["vy"][-1] < 0.0
     # the air slows the flyer a little more than the plate alone does: the same scene in vacuum ends
-    # 0.19 m/s faster (the air's push, about 0.4 MPa ahead and 15 kPa in the wake of an 8 x 3 mm steel
+    # 0.11 m/s faster (the air's push, about 0.4 MPa ahead and 15 kPa in the wake of an 8 x 3 mm steel
     # flyer over 8 us, gives about 0.13 m/s)
     from plyshock.cli import _run
     vac = oblique_plate_2d.setup(cells=(96, 64)).validate()

@@ -34,6 +34,13 @@ CELL_CMAP = "magma"          # dark to light: the ply colours (tab10) stand out 
 CELL_NAN = "lightgray"
 
 
+
+def _count(keep):
+    """The caption's marker count: all of the file's markers, or how many of
+    them a zoom box or a cut shows ("3,686 of 8,418 markers shown")."""
+    n, shown = len(keep), int(np.count_nonzero(keep))
+    return f"{n:,} markers" if shown == n else f"{shown:,} of {n:,} markers shown"
+
 def cells_allowed(materials=None):
     """The allowed values of --cells as text (the materials' names when known)."""
     vf = "|".join(f"volume_fraction:{m}" for m in materials) if materials else "volume_fraction:MATERIAL"
@@ -236,7 +243,7 @@ def plot_field(path, png, field, bodies=None, zoom=None, window=(1600, 1100), ce
     p.add_mesh(pts, scalars=label, cmap="viridis", point_size=5, render_points_as_spheres=True,
                scalar_bar_args={"title": label, "color": "black"})
     t = d["attrs"].get("time", 0.0)
-    p.add_text(f"{path.split('/')[-1]}: t = {float(t) * 1e6:.2f} us, {keep.sum()} markers"
+    p.add_text(f"{path.split('/')[-1]}: t = {float(t) * 1e6:.2f} us, {_count(keep)}"
                + (f"\n{cf['caption']}" if cf is not None else ""), font_size=10, color="black")
     if dim == 2:
         p.view_xy()
@@ -436,7 +443,7 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
             p.add_point_labels([c], [d["body_names"][b]], font_size=14, text_color="black", shape=None, show_points=False)
     t = d["attrs"].get("time")
     head = title or path.split('/')[-1]
-    text = (f"{head}{f'  t = {t * 1e6:.2f} us' if t is not None else ''}: {keep.sum()} markers, "
+    text = (f"{head}{f'  t = {t * 1e6:.2f} us' if t is not None else ''}: {_count(keep)}, "
             f"glyphs = material axis {axis}, colour = {color}")
     if cf is not None:
         text += f"\n{cf['caption']}"
