@@ -88,3 +88,67 @@ def test_bad_geometry_exits_2_before_any_work(tmpdir_mpi):
     assert rc == 2 and clean(se)
     assert "plyshock: error: grid.boundary.x-:" in se and "allowed: symmetry" in se
     assert not os.path.exists(out)
+
+
+def gather(m, names):
+    """All ranks' fields; scalars flat, vectors (n, dim)."""
+    return {k: (v.ravel() if v.shape[1] == 1 else v) for k, v in _gather(m, names).items()}
+
+
+# --------------------------------------------------------------- insertion --
+def _scene(bodies, cells=(16, 24), upper=(0.008, 0.012), subdivision=1):
+    for b in bodies:
+        b.subdivision = subdivision
+    return Scene(2, Grid([0.0, 0.0], list(upper), list(cells), {"x-": "symmetry"}), [Material("cu", preset="OFHC-copper")],
+                 bodies, geometry="axisymmetric").validate()
+
+
+@pytest.mark.parametrize("subdivision", [1, 2])
+def test_cylinder_mass_exact(subdivision):
+    """A box in r-z (radius and height off the cell faces) is a solid cylinder:
+    total mass rho pi R^2 H to round-off; every marker's volume is 2 pi r_c
+    times its piece's area."""
+    R, z0, z1 = 0.0037, 0.0013, 0.0071
+    m = core.initialize(_scene([Body("bar", material="cu", box=Box([0.0, z0], [R, z1]))], subdivision=subdivision))
+    f = gather(m, ["x", "mass", "volume"])
+    M = f["mass"].sum()
+    assert M == pytest.approx(RHO_CU * np.pi * R**2 * (z1 - z0), rel=1e-13)
+    assert np.allclose(f["mass"], RHO_CU * f["volume"], rtol=1e-15)
+    # interior markers: full sub-cells, area h^2/s^2, at the sub-cell centre
+    h = 0.0005 / subdivision
+    x = f["x"].reshape(-1, 2)
+    full = np.isclose(f["volume"] / (2 * np.pi * x[:, 0]), h * h, rtol=1e-12)
+    assert full.sum() > 0.5 * len(full)
+    # the first moment (centre of mass along z) is the cylinder's
+    assert np.sum(f["mass"] * x[:, 1]) / M == pytest.approx(0.5 * (z0 + z1), rel=1e-13)
+
+
+def test_sphere_mass_pappus():
+    """A disk on the axis is a sphere: 4/3 pi R^3 within the curved
+    insertion's tolerance (volume_tolerance 1e-6 of the section's area)."""
+    R, zc = 0.0031, 0.0061
+    m = core.initialize(_scene([Body("ball", material="cu", sphere=Sphere([0.0, zc], R))], subdivision=2))
+    f = gather(m, ["x", "mass"])
+    M = f["mass"].sum()
+    assert M == pytest.approx(RHO_CU * 4.0 / 3.0 * np.pi * R**3, rel=2e-6)
+    assert np.sum(f["mass"] * f["x"].reshape(-1, 2)[:, 1]) / M == pytest.approx(zc, rel=1e-6)
+
+
+def test_insertion_same_on_1_and_2_ranks(tmpdir_mpi):
+    d = _edit(lambda d: d["bodies"].append({"name": "ball", "material": "cu", "sphere": {"center": [0.0, 0.0095], "radius": 0.002},
+                                            "subdivision": 2}))
+    deck = write_deck(os.path.join(tmpdir_mpi, "axi.yaml"), d)
+    sets = []
+    for k in (1, 2):
+        out = os.path.join(tmpdir_mpi, f"m{k}.h5")
+        rc, so, se = run_cli(["init", deck, "-o", out], ranks=k)
+        assert rc == 0, se
+        with h5py.File(out, "r") as f:
+            g = f["markers"]
+            o = np.argsort(g["id"][...])
+            sets.append({n: g[n][...][o] for n in ("id", "x", "mass", "volume")})
+    for n in sets[0]:
+        assert np.array_equal(sets[0][n], sets[1][n]), n
+    R = 0.0037
+    bar = RHO_CU * np.pi * R**2 * 0.0053
+    assert sets[0]["mass"].sum() == pytest.approx(bar + RHO_CU * 4 / 3 * np.pi * 0.002**3, rel=2e-6)

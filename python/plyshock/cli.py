@@ -207,7 +207,7 @@ def _table(scene, counts, masses=None):
         for p in plies:
             n = counts.get((b, p), 0)
             what = f"ply {p} ({body.laminate.plies[p].material})" if p >= 0 else body.material
-            m = f"  mass {masses[(b, p)]:.9g} kg{'/m' if scene.dimension == 2 else ''}" if masses else ""
+            m = f"  mass {masses[(b, p)]:.9g} kg{'/m' if scene.dimension == 2 and not scene.axisymmetric else ''}" if masses else ""
             rows.append(f"  {body.name:<12s} {what:<24s} {n:>10d} markers{m}")
     return "\n".join(rows)
 
@@ -230,10 +230,10 @@ def _check(scene):
     total = sum(d.values())
     r = core.resources(scene, cs, markers=total)
     _print0(f"deck {'OK' if r['grid_bytes'] + r['marker_bytes'] <= r['machine_bytes'] else 'too large'}: "
-            f"dimension {scene.dimension}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
+            f"dimension {scene.dimension}{' axisymmetric' if scene.axisymmetric else ''}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
             f"{len(scene.materials)} materials, {len(scene.bodies)} bodies (SI units)")
     for name, v in clipped.items():
-        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
+        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces{' (of the r-z section)' if scene.axisymmetric else ''}")
     _print0(_table(scene, d))
     _print0(f"expected markers: {total}, {nbytes} bytes per marker, {total * nbytes / 2**20:.3f} MiB")
     _print0(f"memory: {core.describe_resources(r)} (estimate)")
@@ -385,7 +385,7 @@ def _init(scene, text, output, png=None, axis=1, zoom=None):
             f"{PETSc.COMM_WORLD.getSize()} rank(s) in {t1 - t0:.3f} s; slivers merged {m.stats['slivers_merged']}, "
             f"kept {m.stats['slivers_kept']}")
     for name, v in m.clipped.items():
-        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
+        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces{' (of the r-z section)' if scene.axisymmetric else ''}")
     _print0(_table(scene, {k: v[0] for k, v in s.items()}, {k: v[1] for k, v in s.items()}))
     _print0(f"{m.bytes_per_marker} bytes per marker, {m.stats['markers'] * m.bytes_per_marker / 2**20:.3f} MiB in all")
     d = os.path.dirname(os.path.abspath(output))

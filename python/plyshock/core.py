@@ -59,7 +59,7 @@ def scene_to_c(scene):
                 ndamage=4 if any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
                 else 1 if any(m.failure is not None for m in scene.materials) else 0,
                 T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials],
-                need_affine=transfer(scene) == "apic", cellmat=cellmat)
+                need_affine=transfer(scene) == "apic", cellmat=cellmat, axisymmetric=scene.axisymmetric)
 
 
 def run_options(scene):
