@@ -84,6 +84,9 @@ def run_options(scene):
     if key is not None:
         opt = "-run_lanes" if key == "-run_lanes" else "-run_" + key.split(".")[-1]
         raise DeckError(key, f"{msg} (the deck's {key} or the option {opt})" if key != "-run_lanes" else msg)
+    if scene.axisymmetric and params["transfer"] != "musl":
+        raise DeckError("run.transfer", f"{params['transfer']} is not available with geometry: axisymmetric; allowed: musl "
+                        "(the deck's run.transfer or the option -run_transfer)")
     return params
 
 
