@@ -214,9 +214,10 @@ def marker_scalar(d, field):
 
 
 def plot_field(path, png, field, bodies=None, zoom=None, window=(1600, 1100), cells=None, cells_log=False,
-               cells_range=None, view=None):
+               cells_range=None, view=None, field_range=None):
     """Markers of a run step coloured by any field (stress: von Mises; vectors:
-    magnitude); with cells (a --cells value) over that cell field (read_cells)."""
+    magnitude); with cells (a --cells value) over that cell field (read_cells).
+    field_range (lo, hi): a fixed colour range (default the data's)."""
     cf = read_cells(path, cells) if cells else None      # bad input first, before pyvista starts
     import pyvista as pv
     pv.OFF_SCREEN = True
@@ -241,7 +242,7 @@ def plot_field(path, png, field, bodies=None, zoom=None, window=(1600, 1100), ce
     if cf is not None:
         _add_cells(p, cf, dim, zoom, view, cells_log, cells_range)
     p.add_mesh(pts, scalars=label, cmap="viridis", point_size=5, render_points_as_spheres=True,
-               scalar_bar_args={"title": label, "color": "black"})
+               scalar_bar_args={"title": label, "color": "black"}, clim=list(field_range) if field_range else None)
     t = d["attrs"].get("time", 0.0)
     p.add_text(f"{path.split('/')[-1]}: t = {float(t) * 1e6:.2f} us, {_count(keep)}"
                + (f"\n{cf['caption']}" if cf is not None else ""), font_size=10, color="black")
