@@ -290,6 +290,36 @@ def test_totals_are_the_full_revolutions(tmpdir_mpi):
         assert float(rows[-1]["total"]) == pytest.approx(float(r0["total"]), rel=1e-3)
 
 
+def test_run_same_on_1_and_2_ranks(tmpdir_mpi):
+    """A short axisymmetric impact (the bar at 190 m/s onto the wall z = 0) by
+    `plyshock run` on 1 and 2 ranks: the same markers (ids) and states to
+    round-off (the ghost sums add in another order)."""
+    d = _edit(lambda d: d["grid"]["boundary"].update({"y-": "symmetry"}))
+    d["bodies"][0].update(velocity=[0, -190.0], subdivision=2)
+    d["bodies"][0]["box"]["lower"] = [0, 0]
+    d["run"] = {"t_end": 3e-6, "shape": "bspline2", "fbar": True, "pic_fraction": 0.01}
+    deck = write_deck(os.path.join(tmpdir_mpi, "run.yaml"), d)
+    res = []
+    for k in (1, 2):
+        out = os.path.join(tmpdir_mpi, f"r{k}")
+        rc, so, se = run_cli(["run", deck, "-o", out], ranks=k)
+        assert rc == 0, se
+        last = sorted(f for f in os.listdir(out) if f.startswith("markers_"))[-1]
+        with h5py.File(os.path.join(out, last), "r") as f:
+            g = f["markers"]
+            o = np.argsort(g["id"][...])
+            res.append({n: g[n][...][o] for n in ("id", "x", "v", "pressure", "volume")})
+        res[-1]["history"] = np.genfromtxt(os.path.join(out, "history.csv"), delimiter=",", names=True)
+    a, b = res
+    assert np.array_equal(a["id"], b["id"])
+    assert np.abs(a["x"] - b["x"]).max() <= 1e-12 * 0.012
+    assert np.abs(a["v"] - b["v"]).max() <= 1e-8 * 190.0
+    assert np.abs(a["pressure"] - b["pressure"]).max() <= 1e-8 * np.abs(a["pressure"]).max()
+    assert np.abs(a["volume"] / b["volume"] - 1).max() <= 1e-12
+    for c in ("mass", "kinetic", "internal", "total"):
+        assert a["history"][c] == pytest.approx(b["history"][c], rel=1e-9), c
+
+
 # ------------------------------------------------------------- Taylor bar --
 def test_taylor_bar_axisymmetric_matches_the_3d_quarter_model():
     """The copper Taylor bar (Johnson-Cook, 190 m/s, frictionless wall) in

@@ -315,7 +315,7 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None, cells=None, cell
                 pngs.append(plot_markers(f, os.path.join(outdir, name + ".png"), zoom=box, color=color, view=view))
             if projectile:
                 pngs.append(plot_body_velocity(outdir, projectile, os.path.join(outdir, "velocity.png"),
-                                               gauges=[g["name"] for g in scene.gauges or []]))
+                                               gauges=[g["name"] for g in scene.gauges or []], axisymmetric=scene.axisymmetric))
             if cells:
                 pngs += cells_montages(outdir, frames)
             for png in pngs:

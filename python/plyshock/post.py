@@ -316,11 +316,13 @@ def montage(pngs, png, columns=3, width=2400):
     return png
 
 
-def plot_body_velocity(outdir, body, png, gauges=None):
+def plot_body_velocity(outdir, body, png, gauges=None, axisymmetric=False):
     """A body's mean velocity against time from OUTDIR/bodies.csv (the
     projectile's residual velocity is its last value); with gauges (names of
     the run's gauges, gauges.csv), the last velocity component (vy in 2D, vz
-    in 3D) of the marker each follows too."""
+    in 3D) of the marker each follows too.  axisymmetric: vx is the mass
+    mean of v_r (the body's spreading, not a component of its velocity), so
+    the speed in the title is |v_z|."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -331,10 +333,11 @@ def plot_body_velocity(outdir, body, png, gauges=None):
     comps = [k for k in ("vx", "vy", "vz") if k in B.dtype.names]
     fig, ax = plt.subplots(figsize=(7, 4.2))
     t = b["time"] * 1e6
+    names = {"vx": "v_r (mass mean: spreading)", "vy": "v_z (mean)"} if axisymmetric else {}
     for k in comps:
-        ax.plot(t, b[k], label=f"{k} (mean)")
-    speed = np.sqrt(sum(b[k] ** 2 for k in comps))
-    ax.plot(t, speed, "k--", label="|v| (mean)")
+        ax.plot(t, b[k], label=names.get(k, f"{k} (mean)"))
+    speed = np.abs(b["vy"]) if axisymmetric else np.sqrt(sum(b[k] ** 2 for k in comps))
+    ax.plot(t, speed, "k--", label="|v_z| (mean)" if axisymmetric else "|v| (mean)")
     if gauges:
         G = np.genfromtxt(f"{outdir}/gauges.csv", delimiter=",", names=True, dtype=None, encoding=None)
         for k, name in enumerate(gauges):
