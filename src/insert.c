@@ -8,7 +8,13 @@
 
   is computed exactly (geom.c), and one marker is made per non-empty piece at
   the piece's centroid, with m_p = rho V_p (Schumacher et al., the method's
-  exact insertion).  Sub-cells are inside the grid, so pieces are inside the
+  exact insertion).  Axisymmetric 2D (x = r, y = z): the piece is a section
+  of a ring, whose volume is, by Pappus' second theorem, its area times the
+  path of its area centroid, V_p = 2 pi r_c A = 2 pi int r dA (the piece's
+  first moment about the axis: exact to round-off, slivers merged alike); the
+  marker sits at the area centroid (r_c, z_c), the standard choice for a
+  marker in r-z (Sulsky & Schreyer 1996; NairnMPM), and m_p = rho V_p is the
+  full revolution's mass.  Sub-cells are inside the grid, so pieces are inside the
   domain by construction.
 
   Slivers: a piece smaller than sliver_fraction of its sub-cell is merged into
@@ -59,6 +65,7 @@ typedef struct {
 /* A growable list of markers (struct of arrays); NULL in count-only mode. */
 typedef struct {
   PetscInt    n, cap, dim;
+  PetscBool   axi;  /* axisymmetric: volumes of the full revolution (Pappus) */
   PetscReal  *x, *vol, *mass;
   PetscInt64 *id;
   PetscInt   *body, *ply, *mat;
@@ -80,10 +87,11 @@ static PetscErrorCode ListPush(PSMarkerList *L, const double m[4], PetscReal rho
     PetscCall(PetscRealloc(sizeof(PetscInt) * cap, &L->mat));
     L->cap = cap;
   }
-  /* x_p = first moment / volume; m_p = rho V_p */
+  /* x_p = first moment / volume (area in 2D); m_p = rho V_p; axisymmetric:
+     V_p = 2 pi int r dA = 2 pi m[1] (Pappus), x_p the area centroid */
   for (d = 0; d < 3; d++) L->x[3 * L->n + d] = d < L->dim ? m[1 + d] / m[0] : 0.0;
-  L->vol[L->n]  = m[0];
-  L->mass[L->n] = rho * m[0];
+  L->vol[L->n]  = L->axi ? 2.0 * PETSC_PI * m[1] : m[0];
+  L->mass[L->n] = rho * L->vol[L->n];
   L->id[L->n]   = id;
   L->body[L->n] = b;
   L->ply[L->n]  = ply;
@@ -130,10 +138,11 @@ static void RowRange(const PSScene *scene, const PSRegion *hull, PetscInt j, Pet
   if (*i1 < *i0) *i1 = *i0;
 }
 
-/* A marker at a point (the lattice fill): its position exactly x. */
+/* A marker at a point (the lattice fill): its position exactly x; vol the
+   lattice sub-cell's (area in 2D; axisymmetric: its ring, 2 pi x_r area) */
 static PetscErrorCode ListPushPoint(PSMarkerList *L, const double x[3], double vol, PetscReal rho, PetscInt64 id, PetscInt b, PetscInt ply, PetscInt mat)
 {
-  const double m[4] = {vol, 0.0, 0.0, 0.0};
+  const double m[4] = {vol, L->axi ? vol * x[0] : 0.0, 0.0, 0.0};
   PetscInt     d;
 
   PetscFunctionBeginUser;
@@ -389,6 +398,8 @@ PetscErrorCode PSInsertMarkers(const PSScene *scene, DM da, DM sw, PSInsertStats
   PetscCall(PetscMemzero(st, sizeof(*st)));
   PetscCall(PetscMemzero(&L, sizeof(L)));
   L.dim = dim;
+  L.axi = scene->axisymmetric;
+  PetscCheck(!scene->axisymmetric || (dim == 2 && scene->lower[0] >= 0.0), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "axisymmetric insertion needs dimension 2 and r >= 0: dimension %" PetscInt_FMT ", lower r %g", dim, (double)scene->lower[0]);
   for (b = 0; b < scene->nbody; b++)
     if (scene->bodies[b].kind == PS_BODY_LAMINATE) laminates = PETSC_TRUE;
   PetscCall(PSCellOwnership(da, cs, ce));

@@ -32,6 +32,8 @@ PETSC_INTERN PetscErrorCode PSPlyFailureHashin(const PSMaterial *, const PetscRe
    J = det F_new in *J (the caller stops on J <= 0) and the marker's wave speed. */
 typedef struct PSMarkerState_ {
   PetscReal *F;     /* dim x dim, updated */
+  PetscReal  Ftt;   /* axisymmetric: the hoop stretch F_tt = r/r0 at the step's start (stress.c
+                       recovers it as V / (V0 det F_rz)); 0 otherwise: F_zz = 1 in plane strain */
   PetscReal  V0;    /* m^3 */
   PetscReal *vol;   /* current volume, updated */
   PetscReal *sdev;  /* unrotated deviator, updated */
@@ -89,6 +91,9 @@ static inline PetscReal PSKinematics(const PetscInt dim, const PetscReal L[3][3]
   PetscInt  i, j, k;
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) F[i][j] = (i < dim && j < dim) ? s->F[i * dim + j] : (i == j ? 1.0 : 0.0);
+  /* axisymmetric: F = diag(F_rz, F_tt), and L_tt = v_r/r advances F_tt
+     like any diagonal term, so J and V = J V0 carry the hoop stretch */
+  if (dim == 2 && s->Ftt > 0.0) F[2][2] = s->Ftt;
   for (i = 0; i < 3; i++)
     for (j = 0; j < 3; j++) {
       Fn[i][j] = F[i][j];

@@ -73,7 +73,7 @@ typedef struct {
 
 /* The scene: grid, materials, bodies.  Owned by the caller. */
 typedef struct {
-  PetscInt   dim;             /* 2 (plane strain, per metre of depth) or 3 */
+  PetscInt   dim;             /* 2 (plane strain, per metre of depth; or axisymmetric) or 3 */
   PetscReal  lower[3];        /* domain lower corner (m) */
   PetscReal  upper[3];        /* domain upper corner (m) */
   PetscInt   cells[3];        /* cells per direction */
@@ -89,6 +89,8 @@ typedef struct {
   PetscInt  *cellmat;         /* their material ids, deck order */
   PetscInt   nbody;
   PSBody    *bodies;
+  PetscBool  axisymmetric;    /* 2D geometry: axisymmetric (x = r >= 0, y = z; masses and volumes of the full
+                                 revolution) instead of plane strain */
 } PSScene;
 
 /* Counts of an insertion, per rank or reduced over ranks. */
@@ -101,8 +103,8 @@ typedef struct {
 
 /* Marker fields; registered only when a scene needs them. */
 #define PS_FIELD_X        "x"        /* position (m), dim reals */
-#define PS_FIELD_MASS     "mass"     /* m_p (kg; per metre of depth in 2D) */
-#define PS_FIELD_VOLUME   "volume"   /* V_p (m^3; m^2 in 2D) */
+#define PS_FIELD_MASS     "mass"     /* m_p (kg; per metre of depth in 2D plane strain; the full revolution in axisymmetric) */
+#define PS_FIELD_VOLUME   "volume"   /* V_p (m^3; m^2 in 2D plane strain; the full revolution's m^3 in axisymmetric) */
 #define PS_FIELD_VELOCITY "v"        /* v_p (m/s), dim reals */
 #define PS_FIELD_AXES     "axes"     /* material axes 1, 2, 3: 9 reals, anisotropic scenes only */
 #define PS_FIELD_BODY     "body"     /* body id */
@@ -111,7 +113,7 @@ typedef struct {
 #define PS_FIELD_ID       "id"       /* global marker id, unique for the marker's life (int64) */
 /* solver state */
 #define PS_FIELD_F        "F"        /* deformation gradient F_p, dim x dim (row major) */
-#define PS_FIELD_V0       "volume0"  /* initial volume V0_p (m^3; m^2 in 2D) */
+#define PS_FIELD_V0       "volume0"  /* initial volume V0_p (m^3; m^2 in 2D plane strain; m^3 in axisymmetric) */
 #define PS_FIELD_STRESS   "stress"   /* Cauchy stress without viscosity (Pa), symmetric: 3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy */
 #define PS_FIELD_SDEV     "sdev"     /* unrotated deviatoric stress R^T s R (Pa), same layout */
 #define PS_FIELD_PRESSURE "pressure" /* p (Pa), compression positive */

@@ -61,6 +61,8 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
   S->dim   = scene->dim;
   S->pad   = PS_PAD;
   S->ndamage = scene->ndamage;
+  S->axi     = scene->axisymmetric;
+  PetscCheck(!S->axi || (S->dim == 2 && run->transfer == PS_TRANSFER_MUSL), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "geometry axisymmetric needs dimension 2 and run.transfer musl, got dimension %" PetscInt_FMT " and transfer %s", S->dim, PSTransferTypes[run->transfer]);
   for (d = 0; d < scene->nbody; d++)
     if (scene->bodies[d].kind == PS_BODY_LAMINATE) S->has_ply = PETSC_TRUE;
   PetscCall(PetscMalloc1(scene->nmaterial, &S->mat));

@@ -225,6 +225,7 @@ typedef struct {
   PetscInt       cs[3], ce[3], ncell; /* owned cells [cs, ce) (fbar) */
   PetscReal     *cell_V, *cell_trL;   /* per owned cell: sum V_p, sum V_p tr L_p (fbar) */
   PetscBool      has_ply;        /* the scene has laminates: markers carry a ply id */
+  PetscBool      axi;            /* 2D axisymmetric (x = r, y = z; scene->axisymmetric): hoop terms in P2G and L_p */
   PetscInt       zbox[3][2];     /* DMDA nodes [lo, hi) the last step wrote: the grid vectors are zero outside */
   PetscBool      zall;           /* zero the grid vectors whole before the next step */
   PetscReal      dt0;            /* the run's first CFL time step (s): run.dt_floor's reference; checkpointed */

@@ -1,7 +1,8 @@
 /*
   stress.c - the stress phase of the step (PSStress, solver.h step 5): each
   marker's velocity gradient L_p (the MUSL gradient of the re-projected nodal
-  velocity, computed by the transfer, or APIC's C_p), optionally F-bar
+  velocity, computed by the transfer, with the hoop rate L_tt = v_r/r_p in
+  axisymmetric runs; or APIC's C_p), optionally F-bar
   averaged over its cell, then the
   constitutive update of its material (materials/), four 3D markers at a time
   where the material has a 4-lane kernel; then x_p += dx_p and the largest
@@ -36,6 +37,12 @@ static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p,
   memset(st, 0, sizeof(*st));
   st->F     = &f->F[p * dim * dim];
   st->V0    = f->V0[p];
+  if (S->axi) {
+    /* the hoop stretch from what the marker carries: V = det(F_rz) F_tt V0
+       (F block diagonal in r-z and theta) */
+    const PetscReal *F = st->F;
+    st->Ftt = f->vol[p] / (f->V0[p] * (F[0] * F[3] - F[1] * F[2]));
+  }
   st->vol   = &f->vol[p];
   st->sdev  = &f->sdev[p * ns];
   st->sig   = &f->sig[p * ns];
@@ -84,8 +91,15 @@ PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, PetscReal dt)
     for (p = 0; p < f.n; p++) {
       PetscReal     *Lp = &S->Lp[9 * p];
       const PetscInt c  = LocalCell(S, &f.x[p * dim]);
-      const PetscReal shift = (S->cell_trL[c] / S->cell_V[c] - (Lp[0] + Lp[4] + Lp[8])) / dim;
-      for (d = 0; d < dim; d++) Lp[4 * d] += shift;
+      if (S->axi) {
+        /* axisymmetric: the hoop rate is a volumetric direction too, so the
+           shift goes to all three diagonal terms (the 3D form) */
+        const PetscReal shift = (S->cell_trL[c] / S->cell_V[c] - (Lp[0] + Lp[4] + Lp[8])) / 3.0;
+        for (d = 0; d < 3; d++) Lp[4 * d] += shift;
+      } else {
+        const PetscReal shift = (S->cell_trL[c] / S->cell_V[c] - (Lp[0] + Lp[4] + Lp[8])) / dim;
+        for (d = 0; d < dim; d++) Lp[4 * d] += shift;
+      }
     }
   }
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);

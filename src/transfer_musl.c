@@ -10,6 +10,18 @@
   All use N_ip at x_p^n: each marker's weights are evaluated once per step, in
   P2G, and kept in S->shape.
 
+  Axisymmetric 2D (x = r, y = z; S->axi): the weak form of the momentum
+  equation in cylindrical coordinates with the full revolution's V_p and m_p
+  (Sulsky & Schreyer, CMAME 139, 1996, eq. 28; Nairn, NairnMPM's
+  axisymmetric MPM) adds the hoop stress to the radial force,
+      f_ri = -sum_p V_p (sigma_rr dN/dr + sigma_rz dN/dz + sigma_tt N_ip / r_p)
+      f_zi = -sum_p V_p (sigma_rz dN/dr + sigma_zz dN/dz)
+  (sigma_tt is the stored out-of-plane component, sigma - q I as elsewhere),
+  and the velocity gradient the hoop rate L_tt = v_r(x_p) / r_p, v_r(x_p) =
+  sum_i N_ip v_ri of the re-projected velocity.  Masses and momenta need
+  nothing new: m_p is the full revolution's.  The axisymmetric kernels are
+  compiled apart (a constant flag), so the plane-strain ones are unchanged.
+
   Node layout (grid.c reads it through PSMUSLLayout): 3D nodes hold 8 reals,
   [m, mv_x, mv_y, mv_z | 0, f_x, f_y, f_z], one 8-wide vector (PSv8: one
   AVX-512 register, one cache line in the 64-byte aligned arrays), and the
@@ -24,7 +36,7 @@
 #include "cells/cells.h"
 
 /* 1. P2G of one marker, dim and N constant */
-static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, PetscReal lp, PetscReal *g, PSShape *shp)
+static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, PetscReal lp, PetscReal *g, PSShape *shp)
 {
   const PetscInt   dof = dim == 3 ? 8 : 5, nz = dim == 3 ? N : 1, sy = dof * ix->gm[0], sz = sy * ix->gm[1];
   const PetscReal *x = &f->x[p * dim], *v = &f->v[p * dim], m = f->mass[p], V = f->vol[p];
@@ -52,7 +64,8 @@ static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, c
         for (a = 0; a < N; a++) Store8(gr + 8 * a, Load8(gr + 8 * a) + sh->w[0][a] * U + sh->dw[0][a] * D);
       }
   } else {
-    PetscReal mv[2], Vs[2][2];
+    PetscReal       mv[2], Vs[2][2];
+    const PetscReal Vtt = axi ? V * s[2][2] / x[0] : 0.0; /* V_p sigma_tt / r_p (axisymmetric) */
     for (d = 0; d < 2; d++) {
       mv[d] = m * v[d];
       for (e = 0; e < 2; e++) Vs[d][e] = V * s[d][e];
@@ -67,24 +80,30 @@ static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, c
           gn[0] += w * m;
           gn[1] += w * mv[0];
           gn[2] += w * mv[1];
-          gn[3] -= Vs[0][0] * g_x + Vs[0][1] * g_y;
+          if (axi) gn[3] -= Vs[0][0] * g_x + Vs[0][1] * g_y + Vtt * w;
+          else gn[3] -= Vs[0][0] * g_x + Vs[0][1] * g_y;
           gn[4] -= Vs[1][0] * g_x + Vs[1][1] * g_y;
         }
       }
   }
 }
 
-static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, PetscReal *g)
+static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, PetscReal *g)
 {
   PetscReal V0 = -1.0, lp = 0.0;
   PetscInt  p;
   for (p = 0; p < f->n; p++) {
-    /* GIMP half size from V0 (cbrt is slow: uniform insertion repeats V0) */
-    if (S->run.shape == PS_SHAPE_GIMP && f->V0[p] != V0) {
+    if (axi && S->run.shape == PS_SHAPE_GIMP) {
+      /* the initial section area A0 = V0 / (2 pi r0), r0 = r_p / F_tt and
+         F_tt = V / (V0 det F_rz): A0 = V / (2 pi r_p det F_rz) */
+      const PetscReal *F = &f->F[4 * p];
+      lp = 0.5 * PetscSqrtReal(f->vol[p] / (2.0 * PETSC_PI * f->x[2 * p] * (F[0] * F[3] - F[1] * F[2])));
+    } else if (S->run.shape == PS_SHAPE_GIMP && f->V0[p] != V0) {
+      /* GIMP half size from V0 (cbrt is slow: uniform insertion repeats V0) */
       V0 = f->V0[p];
       lp = HalfSize(dim, V0);
     }
-    P2GMarker(S, f, p, ix, dim, N, lp, g, &S->shape[p]);
+    P2GMarker(S, f, p, ix, dim, N, axi, lp, g, &S->shape[p]);
   }
 }
 
@@ -160,7 +179,7 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
 
 /* 5. L_p = sum_i v_i (x) grad N_ip from the re-projected velocities, into
    S->Lp (9 reals per marker, row major) */
-static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscReal *hv)
+static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *hv)
 {
   const PetscInt hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1, hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
   PetscInt       p, a, b, c, d;
@@ -191,7 +210,7 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
         L[3 * d + 2] = c2[5 + d];
       }
     } else {
-      PetscReal l00 = 0, l01 = 0, l10 = 0, l11 = 0;
+      PetscReal l00 = 0, l01 = 0, l10 = 0, l11 = 0, vr = 0;
       for (c = 0; c < nz; c++)
         for (b = 0; b < N; b++) {
           const PetscReal  wy = sh->w[1][b], dy = sh->dw[1][b];
@@ -202,6 +221,7 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
             l01 += vn[0] * g_y;
             l10 += vn[1] * g_x;
             l11 += vn[1] * g_y;
+            if (axi) vr += sh->w[0][a] * wy * vn[0];
           }
         }
       L[0] = l00;
@@ -209,12 +229,14 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
       L[2] = 0.0;
       L[3] = l10;
       L[4] = l11;
-      L[5] = L[6] = L[7] = L[8] = 0.0;
+      L[5] = L[6] = L[7] = 0.0;
+      L[8] = axi ? vr / f->x[2 * p] : 0.0; /* the hoop rate v_r / r_p (axisymmetric) */
     }
   }
 }
 
-/* the four compiled forms of each kernel (N: nodes per direction) */
+/* the four compiled forms of each kernel (N: nodes per direction); P2G and
+   the gradient have two more, the axisymmetric 2D ones (call2a) */
 #define PS_MUSL_DISPATCH(call3, call2) \
   do { \
     if (S->dim == 3) { \
@@ -225,6 +247,13 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
       else call2(2); \
     } \
   } while (0)
+#define PS_MUSL_DISPATCH_AXI(call3, call2, call2a) \
+  do { \
+    if (S->dim == 2 && S->axi) { \
+      if (N == 3) call2a(3); \
+      else call2a(2); \
+    } else PS_MUSL_DISPATCH(call3, call2); \
+  } while (0)
 
 /* 1. P2G of the markers into S->g (the grid phase sums the ghosts) */
 PetscErrorCode PSMUSLP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
@@ -234,9 +263,10 @@ PetscErrorCode PSMUSLP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_P2G, 0, 0, 0, 0));
-#define P2G3(n) P2GAll(S, f, ix, 3, n, g)
-#define P2G2(n) P2GAll(S, f, ix, 2, n, g)
-  PS_MUSL_DISPATCH(P2G3, P2G2);
+#define P2G3(n)  P2GAll(S, f, ix, 3, n, PETSC_FALSE, g)
+#define P2G2(n)  P2GAll(S, f, ix, 2, n, PETSC_FALSE, g)
+#define P2G2A(n) P2GAll(S, f, ix, 2, n, PETSC_TRUE, g)
+  PS_MUSL_DISPATCH_AXI(P2G3, P2G2, P2G2A);
   PetscCall(PetscLogEventEnd(PS_EV_P2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -270,9 +300,10 @@ PetscErrorCode PSMUSLReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   if (S->cells) PSGridAddOwned(S, ix, S->cells->P, dim, hv + hdof - dim, hdof);
   PSGridVelocity(S, ix, S->g, PSGridDof(S), hv + hdof - dim, hdof);
   PetscCall(PSHaloBcast(S->sfh, hv));
-#define GRAD3(n) GradientAll(S, f, ix, 3, n, hv)
-#define GRAD2(n) GradientAll(S, f, ix, 2, n, hv)
-  PS_MUSL_DISPATCH(GRAD3, GRAD2);
+#define GRAD3(n)  GradientAll(S, f, ix, 3, n, PETSC_FALSE, hv)
+#define GRAD2(n)  GradientAll(S, f, ix, 2, n, PETSC_FALSE, hv)
+#define GRAD2A(n) GradientAll(S, f, ix, 2, n, PETSC_TRUE, hv)
+  PS_MUSL_DISPATCH_AXI(GRAD3, GRAD2, GRAD2A);
   PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

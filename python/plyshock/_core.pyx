@@ -70,6 +70,7 @@ cdef extern from "plyshock.h":
         PetscInt *cellmat
         PetscInt nbody
         PSBody *bodies
+        PetscBool axisymmetric
     ctypedef struct PSInsertStats:
         PetscInt64 pieces
         PetscInt64 markers
@@ -213,6 +214,7 @@ cdef class CScene:
         self.s.need_temperature = PETSC_TRUE if spec.get("need_temperature") else PETSC_FALSE
         self.s.ndamage = spec["ndamage"]
         self.s.need_affine = PETSC_TRUE if spec.get("need_affine") else PETSC_FALSE
+        self.s.axisymmetric = PETSC_TRUE if spec.get("axisymmetric") else PETSC_FALSE
         T0 = spec.get("T0", [294.0] * len(dens))
         self.s.T0 = <PetscReal *>calloc(max(1, len(dens)), sizeof(PetscReal))
         for i in range(len(dens)):

@@ -10,6 +10,8 @@
                                                  --cells FIELD[:MATERIAL] draws a run step's cells under them
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
+Decks: dimension 2 (geometry: plane-strain, the default, or axisymmetric: x = r,
+y = z, masses of the full revolution) or 3.
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
 Bad input exits with status 2 and a message naming the deck key; so does a run
 stopped by a guard (a collapsing time step, an inverted marker) or a
@@ -207,7 +209,7 @@ def _table(scene, counts, masses=None):
         for p in plies:
             n = counts.get((b, p), 0)
             what = f"ply {p} ({body.laminate.plies[p].material})" if p >= 0 else body.material
-            m = f"  mass {masses[(b, p)]:.9g} kg{'/m' if scene.dimension == 2 else ''}" if masses else ""
+            m = f"  mass {masses[(b, p)]:.9g} kg{'/m' if scene.dimension == 2 and not scene.axisymmetric else ''}" if masses else ""
             rows.append(f"  {body.name:<12s} {what:<24s} {n:>10d} markers{m}")
     return "\n".join(rows)
 
@@ -230,10 +232,10 @@ def _check(scene):
     total = sum(d.values())
     r = core.resources(scene, cs, markers=total)
     _print0(f"deck {'OK' if r['grid_bytes'] + r['marker_bytes'] <= r['machine_bytes'] else 'too large'}: "
-            f"dimension {scene.dimension}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
+            f"dimension {scene.dimension}{' axisymmetric' if scene.axisymmetric else ''}, grid {' x '.join(map(str, scene.grid.cells))} cells, "
             f"{len(scene.materials)} materials, {len(scene.bodies)} bodies (SI units)")
     for name, v in clipped.items():
-        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
+        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces{' (of the r-z section)' if scene.axisymmetric else ''}")
     _print0(_table(scene, d))
     _print0(f"expected markers: {total}, {nbytes} bytes per marker, {total * nbytes / 2**20:.3f} MiB")
     _print0(f"memory: {core.describe_resources(r)} (estimate)")
@@ -315,7 +317,7 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None, cells=None, cell
                 pngs.append(plot_markers(f, os.path.join(outdir, name + ".png"), zoom=box, color=color, view=view))
             if projectile:
                 pngs.append(plot_body_velocity(outdir, projectile, os.path.join(outdir, "velocity.png"),
-                                               gauges=[g["name"] for g in scene.gauges or []]))
+                                               gauges=[g["name"] for g in scene.gauges or []], axisymmetric=scene.axisymmetric))
             if cells:
                 pngs += cells_montages(outdir, frames)
             for png in pngs:
@@ -385,7 +387,7 @@ def _init(scene, text, output, png=None, axis=1, zoom=None):
             f"{PETSc.COMM_WORLD.getSize()} rank(s) in {t1 - t0:.3f} s; slivers merged {m.stats['slivers_merged']}, "
             f"kept {m.stats['slivers_kept']}")
     for name, v in m.clipped.items():
-        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces")
+        _print0(f"  body {name}: {v:.6g} m^{scene.dimension} clipped away by the grid's faces{' (of the r-z section)' if scene.axisymmetric else ''}")
     _print0(_table(scene, {k: v[0] for k, v in s.items()}, {k: v[1] for k, v in s.items()}))
     _print0(f"{m.bytes_per_marker} bytes per marker, {m.stats['markers'] * m.bytes_per_marker / 2**20:.3f} MiB in all")
     d = os.path.dirname(os.path.abspath(output))

@@ -59,7 +59,7 @@ def scene_to_c(scene):
                 ndamage=4 if any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
                 else 1 if any(m.failure is not None for m in scene.materials) else 0,
                 T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials],
-                need_affine=transfer(scene) == "apic", cellmat=cellmat)
+                need_affine=transfer(scene) == "apic", cellmat=cellmat, axisymmetric=scene.axisymmetric)
 
 
 def run_options(scene):
@@ -84,6 +84,9 @@ def run_options(scene):
     if key is not None:
         opt = "-run_lanes" if key == "-run_lanes" else "-run_" + key.split(".")[-1]
         raise DeckError(key, f"{msg} (the deck's {key} or the option {opt})" if key != "-run_lanes" else msg)
+    if scene.axisymmetric and params["transfer"] != "musl":
+        raise DeckError("run.transfer", f"{params['transfer']} is not available with geometry: axisymmetric; allowed: musl "
+                        "(the deck's run.transfer or the option -run_transfer)")
     return params
 
 

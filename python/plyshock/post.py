@@ -214,9 +214,10 @@ def marker_scalar(d, field):
 
 
 def plot_field(path, png, field, bodies=None, zoom=None, window=(1600, 1100), cells=None, cells_log=False,
-               cells_range=None, view=None):
+               cells_range=None, view=None, field_range=None):
     """Markers of a run step coloured by any field (stress: von Mises; vectors:
-    magnitude); with cells (a --cells value) over that cell field (read_cells)."""
+    magnitude); with cells (a --cells value) over that cell field (read_cells).
+    field_range (lo, hi): a fixed colour range (default the data's)."""
     cf = read_cells(path, cells) if cells else None      # bad input first, before pyvista starts
     import pyvista as pv
     pv.OFF_SCREEN = True
@@ -241,7 +242,7 @@ def plot_field(path, png, field, bodies=None, zoom=None, window=(1600, 1100), ce
     if cf is not None:
         _add_cells(p, cf, dim, zoom, view, cells_log, cells_range)
     p.add_mesh(pts, scalars=label, cmap="viridis", point_size=5, render_points_as_spheres=True,
-               scalar_bar_args={"title": label, "color": "black"})
+               scalar_bar_args={"title": label, "color": "black"}, clim=list(field_range) if field_range else None)
     t = d["attrs"].get("time", 0.0)
     p.add_text(f"{path.split('/')[-1]}: t = {float(t) * 1e6:.2f} us, {_count(keep)}"
                + (f"\n{cf['caption']}" if cf is not None else ""), font_size=10, color="black")
@@ -315,11 +316,13 @@ def montage(pngs, png, columns=3, width=2400):
     return png
 
 
-def plot_body_velocity(outdir, body, png, gauges=None):
+def plot_body_velocity(outdir, body, png, gauges=None, axisymmetric=False):
     """A body's mean velocity against time from OUTDIR/bodies.csv (the
     projectile's residual velocity is its last value); with gauges (names of
     the run's gauges, gauges.csv), the last velocity component (vy in 2D, vz
-    in 3D) of the marker each follows too."""
+    in 3D) of the marker each follows too.  axisymmetric: vx is the mass
+    mean of v_r (the body's spreading, not a component of its velocity), so
+    the speed in the title is |v_z|."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -330,10 +333,11 @@ def plot_body_velocity(outdir, body, png, gauges=None):
     comps = [k for k in ("vx", "vy", "vz") if k in B.dtype.names]
     fig, ax = plt.subplots(figsize=(7, 4.2))
     t = b["time"] * 1e6
+    names = {"vx": "v_r (mass mean: spreading)", "vy": "v_z (mean)"} if axisymmetric else {}
     for k in comps:
-        ax.plot(t, b[k], label=f"{k} (mean)")
-    speed = np.sqrt(sum(b[k] ** 2 for k in comps))
-    ax.plot(t, speed, "k--", label="|v| (mean)")
+        ax.plot(t, b[k], label=names.get(k, f"{k} (mean)"))
+    speed = np.abs(b["vy"]) if axisymmetric else np.sqrt(sum(b[k] ** 2 for k in comps))
+    ax.plot(t, speed, "k--", label="|v_z| (mean)" if axisymmetric else "|v| (mean)")
     if gauges:
         G = np.genfromtxt(f"{outdir}/gauges.csv", delimiter=",", names=True, dtype=None, encoding=None)
         for k, name in enumerate(gauges):

@@ -19,6 +19,11 @@ FACES = ("x-", "x+", "y-", "y+", "z-", "z+")
 # would shrink toward nothing (1e20 m/s) or the kinetic energy overflow (1e300).
 V_MAX = 1.0e5
 BOUNDARY_KINDS = ("free", "symmetry", "fixed")
+# 2D geometries: plane strain (per metre of depth) or axisymmetric (x = r >= 0,
+# y = z, the x- face the axis; masses and totals of the full revolution)
+GEOMETRIES = ("plane-strain", "axisymmetric")
+# Relative tolerance of the transverse-isotropy test of an axisymmetric ply
+TRANSVERSE_ISOTROPY_RTOL = 1e-9
 # Largest ratio of a cell's longest side to its shortest: MPM's shape functions
 # want near-square cells, and the exact insertion bisects a cell cut by a
 # curved surface in every direction at once, so its work grows as the ratio
@@ -443,8 +448,13 @@ class Scene:
     bodies: List[Body]
     run: Optional[Run] = None
     gauges: Optional[list] = None        # [{name, point: [x, y(, z)]}]: each follows the marker nearest at t = 0
+    geometry: Optional[str] = None       # plane-strain (None: the default) | axisymmetric (2D: x = r, y = z)
 
-    KEYS = ("dimension", "grid", "materials", "bodies", "run", "gauges")
+    KEYS = ("dimension", "grid", "materials", "bodies", "run", "gauges", "geometry")
+
+    @property
+    def axisymmetric(self):
+        return self.geometry == "axisymmetric"
 
     # ------------------------------------------------------------ checks --
     def validate(self):
@@ -452,7 +462,9 @@ class Scene:
         if self.dimension not in (2, 3) or isinstance(self.dimension, bool):
             raise DeckError("dimension", f"must be 2 (plane strain) or 3, got {self.dimension!r}")
         dim = self.dimension
+        self._validate_geometry(grid=False)
         self.grid.validate(dim)
+        self._validate_geometry(grid=True)
         if not self.materials:
             raise DeckError("materials", "at least one material is required")
         names = {}
@@ -470,6 +482,9 @@ class Scene:
             if b.name in bnames:
                 raise DeckError(f"bodies[{i}].name", f"{b.name!r} is already bodies[{bnames[b.name]}]")
             bnames[b.name] = i
+        if self.axisymmetric:
+            for i, b in enumerate(self.bodies):
+                self._validate_axisymmetric_body(b, f"bodies[{i}]")
         if self.run is not None:
             self.run.validate()
         if self.gauges is not None:
@@ -485,6 +500,59 @@ class Scene:
                     if not self.grid.lower[a] <= g["point"][a] <= self.grid.upper[a]:
                         raise DeckError(f"gauges[{i}].point[{a}]", f"{g['point'][a]} is outside the grid [{self.grid.lower[a]}, {self.grid.upper[a]}]")
         return self
+
+    def _validate_geometry(self, grid):
+        """geometry: plane-strain (default) | axisymmetric: 2D only (checked
+        before the grid), the grid in r >= 0 and its x- face (the axis) a
+        symmetry face (checked after it)."""
+        g = self.geometry if self.geometry is not None else "plane-strain"
+        if not isinstance(g, str) or g not in GEOMETRIES:
+            raise DeckError("geometry", f"must be one of {'|'.join(GEOMETRIES)}, got {g!r}")
+        if g != "axisymmetric":
+            return
+        if self.dimension != 2:
+            raise DeckError("geometry", f"axisymmetric needs dimension 2 (x = r, y = z), got dimension {self.dimension}; "
+                            f"allowed: {'|'.join(GEOMETRIES)} in 2D, plane-strain only in 3D")
+        if not grid:
+            return
+        if self.grid.lower[0] < 0:
+            raise DeckError("grid.lower[0]", f"{self.grid.lower[0]} is out of range with geometry: axisymmetric "
+                            "(x is the radius r); allowed [0, inf]")
+        if self.grid.boundary["x-"] != "symmetry":
+            raise DeckError("grid.boundary.x-", f"must be symmetry with geometry: axisymmetric (the x- face is the axis r = 0 "
+                            f"or an inner radius, v_r = 0 there), got {self.grid.boundary['x-']!r}; allowed: symmetry")
+
+    def _validate_axisymmetric_body(self, b, path):
+        """Axisymmetric bodies: markers only; a laminate stacked along z (y) whose
+        plies are isotropic or transversely isotropic about the stacking axis
+        (a body of revolution's material must not depend on the angle)."""
+        if b.representation == "cells":
+            raise DeckError(f"{path}.representation", "cells are not available with geometry: axisymmetric; allowed: markers")
+        if b.kind != "laminate":
+            return
+        ax = np.asarray(b._axes, dtype=float)
+        a3 = ax[2]     # the frame's stacking axis (axis 3) in x, y, z
+        if abs(abs(a3[1]) - 1.0) > TRANSVERSE_ISOTROPY_RTOL:
+            raise DeckError(f"{path}.laminate.frame.axis3", f"the stacking axis {np.round(a3[:2], 6).tolist()} must be the z axis "
+                            "(y, the axis of revolution) with geometry: axisymmetric; allowed: axis3 - origin along +-y")
+        for j, p in enumerate(b.laminate.plies):
+            m = self.materials[b._ply_mat[j]]
+            if not m.anisotropic:
+                continue
+            e = m.elastic
+            pp = f"{path}.laminate.plies[{j}]"
+            close = lambda a, c: abs(a - c) <= TRANSVERSE_ISOTROPY_RTOL * max(abs(a), abs(c))
+            # transversely isotropic about material axis 3: the 1-2 plane isotropic
+            ti = (close(e["E1"], e["E2"]) and close(e["nu13"], e["nu23"]) and close(e["G13"], e["G23"])
+                  and close(e["G12"], e["E1"] / (2.0 * (1.0 + e["nu12"]))))
+            if not ti:
+                raise DeckError(f"{pp}.material", f"material {m.name!r} is not transversely isotropic about the stacking axis "
+                                "(needs E1 = E2, nu13 = nu23, G13 = G23, G12 = E1/(2(1+nu12))); with geometry: axisymmetric "
+                                "allowed: isotropic plies or plies transversely isotropic about the stacking axis")
+            a3p = np.asarray(b._ply_axes[j], dtype=float).reshape(3, 3)[2]
+            if abs(abs(a3p[1]) - 1.0) > TRANSVERSE_ISOTROPY_RTOL:
+                raise DeckError(f"{pp}.rotations", f"turn the ply's axis 3 to {np.round(a3p, 6).tolist()}, off the stacking (z) axis; "
+                                "with geometry: axisymmetric allowed: rotations about axis 3 only")
 
     def _material_id(self, name, path, names):
         if not isinstance(name, str):
@@ -684,7 +752,7 @@ class Scene:
             if "t_end" not in d["run"]:
                 raise DeckError("run.t_end", "is required (s, > 0)")
             run = Run(**d["run"])
-        return Scene(d["dimension"], grid, mats, bodies, run, d.get("gauges"))
+        return Scene(d["dimension"], grid, mats, bodies, run, d.get("gauges"), d.get("geometry"))
 
 
 def _laminate_from_dict(d, path):

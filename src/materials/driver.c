@@ -24,6 +24,7 @@ PetscErrorCode PSMaterialDrive(const PSMaterial *M, const PetscReal axes0[9], Pe
   PetscFunctionBeginUser;
   PetscCall(PetscArraycpy(ax, axes0, 9));
   st.F     = F;
+  st.Ftt   = 0.0;
   st.V0    = 1.0;
   st.vol   = &vol;
   st.sdev  = sdev;
