@@ -14,9 +14,13 @@
     grid    at a shared node (two or more fields heavier than mass_min):
             v_k = ((mv)_ik + dt f_ik) / m_ik with the boundary conditions;
             centre of mass v_cm = sum_k m_ik v_k / sum_k m_ik;
-            normal of field k towards the others
-              n_k = (g_ik - sum_{j != k} g_ij) / |...|
-            (two fields: n_a = -n_b, so momentum is conserved exactly);
+            normal of field k towards the others: the larger of g_ik and
+              -sum_{j != k} g_ij, normalised (the field with the larger mass
+              gradient defines the surface, NairnMPM's "maximum volume gradient"
+              choice: a block's corners on a flat plate take the plate's normal;
+              the difference g_a - g_b tilted them and slowed a frictionless
+              block by 6.6%); two fields: n_a = -n_b, so momentum is conserved;
+            a symmetry face mirrors the bodies: g has no component across it;
             approach  dn = (v_k - v_cm) . n_k > 0 (Bardenhagen 2000 eq. 18);
             then the normal correction v_k -= dn n_k (no interpenetration) and
             Coulomb friction on the tangential rest t = v_k - v_cm - dn n_k:
@@ -74,10 +78,11 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
   }
   for (d = 0; d < dim; d++) vcm[d] /= M;
   for (k = 0; k < nf; k++) {
-    PetscReal n[3] = {0, 0, 0}, nn = 0.0, dn = 0.0, t[3] = {0, 0, 0}, tt = 0.0, mu, mo = 0.0, e0 = 0.0, e1 = 0.0;
+    PetscReal n[3] = {0, 0, 0}, nn = 0.0, dn = 0.0, t[3] = {0, 0, 0}, tt = 0.0, mu, mo = 0.0, e0 = 0.0, e1 = 0.0, gk2 = 0.0, go2 = 0.0;
     PetscInt  other = -1;
     if (m[k] <= S->mass_min) continue;
-    /* n_k = (g_k - sum_{j != k} g_j)/|.|, g = -grad m: out of k, towards the other fields */
+    /* n_k: g = -grad m points out of its field; the larger of g_k and
+       -sum_{j != k} g_j, normalised, points from k towards the others */
     for (j = 0; j < nf; j++) {
       if (j == k || m[j] <= S->mass_min) continue;
       for (d = 0; d < dim; d++) n[d] -= gm[j][d];
@@ -87,9 +92,12 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
       }
     }
     for (d = 0; d < dim; d++) {
-      n[d] += gm[k][d];
-      nn += n[d] * n[d];
+      gk2 += gm[k][d] * gm[k][d];
+      go2 += n[d] * n[d];
     }
+    if (gk2 > go2 || (gk2 == go2 && k < other)) /* a tie goes to the lower field, the same for both */
+      for (d = 0; d < dim; d++) n[d] = gm[k][d];
+    for (d = 0; d < dim; d++) nn += n[d] * n[d];
     if (!(nn > 0.0)) continue; /* no direction: the fields move freely */
     nn = PetscSqrtReal(nn);
     for (d = 0; d < dim; d++) {
@@ -184,6 +192,7 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
             gm[k][d] = gk[1 + 2 * dim + d];
           }
           PSNodeBC(S, ip, v[k]);
+          PSNodeBC(S, ip, gm[k]); /* a symmetry face mirrors the body: no gradient across it */
         }
         C->friction_work += ContactLaw(S, C, ip, m, (const PetscReal(*)[3])gm, v);
         for (k = 0; k < nf; k++)
@@ -282,6 +291,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
             gm[k][d] = gn[k * fs + 1 + 2 * dim + d];
           }
           PSNodeBC(S, ip, v[k]);
+          PSNodeBC(S, ip, gm[k]);
         }
         (void)ContactLaw(S, C, ip, m, (const PetscReal(*)[3])gm, v); /* not booked: sets L_p only */
         for (k = 0; k < nf; k++)

@@ -490,22 +490,28 @@ class Contact:
             field[i] = roots.index(r)
         nf = len(roots)
         mu = np.full((nf, nf), -1.0)
-        for x in marker:
-            for y in marker:
-                if x >= y:
-                    continue
-                i, kind, f = listed.get(frozenset((x, y)), (None, self.type, self.friction))
-                a, b = field[x], field[y]
-                pp = f"contact.pairs[{i}]" if i is not None else "contact"
-                if a == b:
-                    if kind == "friction":
-                        raise DeckError(f"{pp}.type", f"bodies {scene.bodies[x].name!r} and {scene.bodies[y].name!r} are bonded "
-                                        "through other pairs (bonded is transitive: list the pairs of the group as friction)")
-                    continue
-                if mu[a, b] >= 0 and mu[a, b] != f:
-                    raise DeckError(f"{pp}.friction", f"{f} differs from {mu[a, b]} between the same two groups of bonded bodies "
-                                    f"({scene.bodies[x].name!r} and {scene.bodies[y].name!r}); one coefficient per pair of groups")
-                mu[a, b] = mu[b, a] = f
+        # listed pairs first, then the section's friction between groups no listed pair joins
+        for listed_pass in (True, False):
+            for x in marker:
+                for y in marker:
+                    if x >= y or (frozenset((x, y)) in listed) != listed_pass:
+                        continue
+                    i, kind, f = listed.get(frozenset((x, y)), (None, self.type, self.friction))
+                    a, b = field[x], field[y]
+                    pp = f"contact.pairs[{i}]" if i is not None else "contact"
+                    if a == b:
+                        if kind == "friction":
+                            raise DeckError(f"{pp}.type", f"bodies {scene.bodies[x].name!r} and {scene.bodies[y].name!r} are bonded "
+                                            "through other pairs (bonded is transitive: list the pairs of the group as friction)")
+                        continue
+                    if not listed_pass:
+                        if mu[a, b] < 0:
+                            mu[a, b] = mu[b, a] = f
+                        continue
+                    if mu[a, b] >= 0 and mu[a, b] != f:
+                        raise DeckError(f"{pp}.friction", f"{f} differs from {mu[a, b]} between the same two groups of bonded bodies "
+                                        f"({scene.bodies[x].name!r} and {scene.bodies[y].name!r}); one coefficient per pair of groups")
+                    mu[a, b] = mu[b, a] = f
         mu[mu < 0] = 0.0
         return field, nf, mu
 
