@@ -587,7 +587,10 @@ class Scene:
         elif not isinstance(self.contact, Contact):
             raise DeckError("contact", "must be a mapping {type: friction|bonded, friction: mu, pairs: [...]}")
         self.contact.validate(bnames)
-        self.contact.fields(self)      # bonded groups against friction pairs
+        if self.contact.fields(self)[1] >= 2 and any(b.representation == "cells" for b in self.bodies):
+            raise DeckError("contact", "friction between marker bodies is not supported with bodies in cells yet "
+                            "(their force reaches the single velocity field only: docs/contact.md); "
+                            "set contact: {type: bonded}")
         if self.gauges is not None:
             if not isinstance(self.gauges, list):
                 raise DeckError("gauges", "must be a list of {name, point}")
