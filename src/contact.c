@@ -16,16 +16,18 @@
             centre of mass v_cm = sum_k m_ik v_k / sum_k m_ik;
             normal of field k towards the others: the larger of g_ik and
               -sum_{j != k} g_ij, normalised (the field with the larger mass
-              gradient defines the surface, NairnMPM's "maximum volume gradient"
-              choice: a block's corners on a flat plate take the plate's normal;
+              gradient defines the surface, like NairnMPM's maximum-volume-gradient
+              normal option, here with mass gradients: a block's corners on a
+              flat plate take the plate's normal;
               the difference g_a - g_b tilted them and slowed a frictionless
-              block by 6.6%); two fields: n_a = -n_b, so momentum is conserved;
+              block by 6.6%); two fields: n_a = -n_b (a tie goes to the lower
+              field), so each node's exchange conserves momentum;
             a symmetry face mirrors the bodies: g has no component across it;
-            approach  dn = (v_k - v_cm) . n_k > 0 (Bardenhagen 2000 eq. 18);
+            approach  dn = (v_k - v_cm) . n_k > 0 (Bardenhagen et al. 2000);
             then the normal correction v_k -= dn n_k (no interpenetration) and
             Coulomb friction on the tangential rest t = v_k - v_cm - dn n_k:
               |t| <= mu dn: stick, v_k = v_cm;
-              else slip,  v_k -= mu dn t/|t|          (Bardenhagen 2001 eq. 10-12);
+              else slip,  v_k -= mu dn t/|t|          (Bardenhagen et al. 2001);
             dn <= 0: the field separates freely (no tension across a contact).
             The kinetic energy the tangential correction removes,
             sum_k m_ik (|v_k after the normal correction|^2 - |v_k|^2)/2, is
@@ -41,7 +43,8 @@
 */
 #include "contact.h"
 
-static PetscLogEvent PS_EV_Contact = 0;
+/* one log event per kernel (registered by PSSolverSetContact) */
+static PetscLogEvent PS_EV_ContactP2G = 0, PS_EV_ContactGrid, PS_EV_ContactG2P, PS_EV_ContactReproject;
 
 /* zero the nodes of box in a dof-per-node ghosted local array */
 static void ZeroBox(const PSIndex *ix, PetscReal *a, PetscInt dof, const PetscInt box[3][2])
@@ -133,7 +136,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
   PetscInt       p, a, b, c, d, e;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(PS_EV_Contact, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(PS_EV_ContactP2G, 0, 0, 0, 0));
   ZeroBox(ix, C->g, C->gdof, C->zbox);
   ZeroBox(ix, C->h, C->hdof, C->zbox);
   PetscCall(PetscArraycpy(&C->zbox[0][0], &S->zbox[0][0], 6));
@@ -158,7 +161,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
           }
         }
   }
-  PetscCall(PetscLogEventEnd(PS_EV_Contact, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(PS_EV_ContactP2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -173,7 +176,7 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
 
   PetscFunctionBeginUser;
   PetscCall(PSHaloReduce(C->sfg, C->g));
-  PetscCall(PetscLogEventBegin(PS_EV_Contact, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(PS_EV_ContactGrid, 0, 0, 0, 0));
   Clip(S->zbox, ix->os, ix->om, lo, hi);
   for (c = lo[2]; c < hi[2]; c++)
     for (b = lo[1]; b < hi[1]; b++)
@@ -201,7 +204,7 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
             gn[k * fs + 1 + dim + d] = v[k][d] - vo[k][d];
           }
       }
-  PetscCall(PetscLogEventEnd(PS_EV_Contact, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(PS_EV_ContactGrid, 0, 0, 0, 0));
   PetscCall(PSHaloBcast(C->sfg, C->g));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -218,7 +221,7 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
   PetscInt        p, a, b, c, d;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(PS_EV_ContactG2P, 0, 0, 0, 0));
   for (p = 0; p < f->n; p++) {
     const PSShape *sh = &S->shape[p];
     const PetscInt k  = C->field[f->body[p]];
@@ -256,7 +259,7 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
           }
         }
   }
-  PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(PS_EV_ContactG2P, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -273,7 +276,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
 
   PetscFunctionBeginUser;
   PetscCall(PSHaloReduce(C->sfh, C->h));
-  PetscCall(PetscLogEventBegin(PS_EV_Contact, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(PS_EV_ContactReproject, 0, 0, 0, 0));
   Clip(S->zbox, ix->os, ix->om, lo, hi);
   for (c = lo[2]; c < hi[2]; c++)
     for (b = lo[1]; b < hi[1]; b++)
@@ -297,9 +300,9 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
         for (k = 0; k < nf; k++)
           for (d = 0; d < dim; d++) hn[k * dim + d] = v[k][d];
       }
-  PetscCall(PetscLogEventEnd(PS_EV_Contact, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(PS_EV_ContactReproject, 0, 0, 0, 0));
   PetscCall(PSHaloBcast(C->sfh, C->h));
-  PetscCall(PetscLogEventBegin(PS_EV_Reproject, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(PS_EV_ContactReproject, 0, 0, 0, 0));
   for (p = 0; p < f->n; p++) {
     const PSShape *sh = &S->shape[p];
     const PetscInt k  = C->field[f->body[p]];
@@ -317,7 +320,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
     for (d = 0; d < 3; d++)
       for (e = 0; e < 3; e++) S->Lp[9 * p + 3 * d + e] = L[d][e];
   }
-  PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(PS_EV_ContactReproject, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -334,10 +337,13 @@ PetscErrorCode PSSolverSetContact(PSSolver *S, PetscInt nbody, const PetscInt fi
   PetscFunctionBeginUser;
   PetscCall(PSContactDestroy(&S->contact));
   if (nfield < 2) PetscFunctionReturn(PETSC_SUCCESS);
-  if (!PS_EV_Contact) {
+  if (!PS_EV_ContactP2G) {
     PetscClassId cid;
     PetscCall(PetscClassIdRegister("plyshock contact", &cid));
-    PetscCall(PetscLogEventRegister("PSContact", cid, &PS_EV_Contact));
+    PetscCall(PetscLogEventRegister("PSContactP2G", cid, &PS_EV_ContactP2G));
+    PetscCall(PetscLogEventRegister("PSContactGrid", cid, &PS_EV_ContactGrid));
+    PetscCall(PetscLogEventRegister("PSContactG2P", cid, &PS_EV_ContactG2P));
+    PetscCall(PetscLogEventRegister("PSContactReproject", cid, &PS_EV_ContactReproject));
   }
   PetscCheck(S->run.transfer == PS_TRANSFER_MUSL, comm, PETSC_ERR_SUP, "contact: friction needs run.transfer: musl (got %s); or set contact: {type: bonded}", PSTransferTypes[S->run.transfer]);
   PetscCheck(nbody == S->scene->nbody, comm, PETSC_ERR_ARG_SIZ, "contact: %" PetscInt_FMT " bodies given, the scene has %" PetscInt_FMT, nbody, S->scene->nbody);
