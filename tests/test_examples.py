@@ -80,7 +80,7 @@ def _check_impact(out, scene, projectile, v0, tmp):
     k = "py" if dim == 2 else "pz"
     assert H["lost_mass"][-1] == 0.0
     # 1e-10 in one field; the sphere in contact with the plate (the default) drifts to 2.0e-10
-    # (measured; the contact's open momentum drift, docs/contact.md): 1e-9
+    # (measured; the force dropped on nodes lighter than run.mass_threshold, docs/contact.md): 1e-9
     assert abs(H[k][-1] - H[k][0]) <= 1e-9 * abs(H[k][0]), (H[k][0], H[k][-1])
     B = np.genfromtxt(os.path.join(tmp, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
     pr = B[B["body"] == projectile]
