@@ -50,16 +50,15 @@ def run_scene(scene, outdir):
 @pytest.mark.parametrize("transfer,shape", [("musl", "gimp"), ("apic", "bspline2")])
 def test_copper_plate_impact_matches_the_hugoniot(transfer, shape, tmpdir_mpi):
     """Cu onto Cu at 500 m/s: u_p 250 m/s, p 9.63 GPa, Us 4312 m/s (impedance match),
-    with either transfer scheme.  Flyer and target bonded: this checks the transfer
-    schemes (contact is MUSL only; with contact, the default, the plateau pressure
-    differs: the contact's exchange of the fields' momenta at the interface
-    nodes is not the single field's, see docs/contact.md)."""
+    with either transfer scheme: musl with flyer and target in contact (the
+    default; measured 250.4 m/s, 9.636 GPa at 1 us), apic bonded (contact is
+    MUSL only; docs/contact.md)."""
     h = 50e-6
     W = 4 * h
     run = Run(t_end=1.0e-6, output_interval=0.5e-6, shape=shape, transfer=transfer)
     scene = strip(0.02, 4, h, [Body("flyer", box=Box([0.002, 0.0], [0.007, W]), material="cu", velocity=[500.0, 0.0], subdivision=2),
                                Body("target", box=Box([0.007, 0.0], [0.017, W]), material="cu", subdivision=2)], [CU], run,
-                  contact=Contact(type="bonded"))
+                  contact=None if transfer == "musl" else Contact(type="bonded"))
     run_scene(scene, tmpdir_mpi)
     fronts = []
     for k, t in ((1, 0.5e-6), (2, 1.0e-6)):
