@@ -36,7 +36,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "python"))
-from plyshock import Body, Box, Frame, Grid, Laminate, Material, Run, Scene  # noqa: E402
+from plyshock import Body, Box, Contact, Frame, Grid, Laminate, Material, Run, Scene  # noqa: E402
 
 AIR = {"density": 1.225, "pressure": 101325.0, "gamma": 1.4}     # U.S. Standard Atmosphere 1976, sea level
 
@@ -64,8 +64,10 @@ def setup(cells=(240, 160), subdivision=2, layup="[0/90/90/0]", ply_thickness=0.
         bodies.insert(0, Body("air", box=Box([0.0, 0.0], [60e-3, 40e-3]), material="air", representation="cells",
                               pressure=AIR["pressure"], priority=0))
         plate.priority = flyer.priority = 1
+    # in air the flyer and the plate are bonded: contact between marker bodies is not
+    # supported with bodies in cells yet (docs/contact.md); in vacuum they are in contact
     return Scene(2, Grid([0.0, 0.0], [60e-3, 40e-3], list(cells)), mats, bodies,
-                 Run(t_end=t_end, output_interval=output_interval))
+                 Run(t_end=t_end, output_interval=output_interval), contact=Contact(type="bonded") if air else None)
 
 
 # the picture frames the impact region (m)

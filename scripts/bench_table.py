@@ -72,7 +72,8 @@ def main():
     if "nocells_calls" in b:
         rows.append(("elastic block (no cells): cells' phases entered", f"{b['nocells_calls']:.0f} times", "", "", "0", "yes" if b["nocells_calls"] == 0 else "no"))
     # contact (multi-field) against bonded, the oblique plate
-    row("oblique plate, contact (per core)", "contact_multi_1", "contact_bonded_1", "bonded, same run")
+    row("oblique plate, contact, 1 rank", "contact_multi_1", "contact_bonded_1", "bonded, same run")
+    row("oblique plate, contact, 2 ranks (per core)", "contact_multi_2", "contact_bonded_2", "bonded, same run")
     # the coupled blast example against the same panel without its cell bodies
     for r in (1, 2):
         if f"blast_seconds_{r}" in b and f"blast_vacuum_seconds_{r}" in b:

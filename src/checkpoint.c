@@ -18,6 +18,7 @@
                          physical nodes in natural order
     /cells/ranks         per rank: remap heat, coupling work (J)
     /cells/sweep         the first sweep direction of the next remap     (WriteCells)
+    /contact/ranks       (bodies in contact) per rank: friction work (J) (Checkpoint)
     root attributes      format, dim, cells, lower, upper (the grid it was
                          written for), complete = 1 (written last)
     every dataset        attribute checksum (uint64): the sum over its
@@ -45,6 +46,7 @@
 #include <unistd.h>
 #include <hdf5.h>
 #include "cells/cells.h"
+#include "contact.h"
 
 #define PS_CHECKPOINT_FORMAT 2
 #define PS_RANK_COLS         7 /* columns of /checkpoint/ranks */
@@ -393,6 +395,12 @@ static PetscErrorCode Checkpoint(PSSolver *S, const char filename[])
     PetscCall(WriteCells(S, &w, grp));
     H5Gclose(grp);
   }
+  if (S->contact) {
+    grp = H5Gcreate2(w.file, "/contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5CHK(grp, "/contact");
+    PetscCall(WriteTable(&w, grp, "contact", "ranks", PETSC_REAL, &S->contact->friction_work, 1, 1, w.rank, w.size));
+    H5Gclose(grp);
+  }
   PetscCall(WriteAttr(w.file, "complete", H5T_NATIVE_INT, 1, &complete)); /* last: everything above is in */
   H5CHK(H5Fclose(w.file), "H5Fclose");
   PetscCallMPI(MPI_Barrier(w.comm));
@@ -663,6 +671,13 @@ static PetscErrorCode VerifyLayout(const PSScene *scene, hid_t file, PSCkptTable
     t[ns].type = PETSC_REAL, t[ns].N = 1, t[ns].bs = 0, ns++;
     (void)Nc;
   }
+  /* the contact's books (a run with bodies in contact) */
+  if (H5Lexists(file, "/contact", H5P_DEFAULT) > 0) {
+    PetscInt64 Rc = 0;
+    if (!TableShape(file, "/contact/ranks", PETSC_REAL, -1, 1, &Rc, msg, len)) PetscFunctionReturn(PETSC_SUCCESS);
+    PetscCall(PetscSNPrintf(t[ns].path, sizeof(t[ns].path), "/contact/ranks"));
+    t[ns].type = PETSC_REAL, t[ns].N = Rc, t[ns].bs = 1, ns++;
+  }
   for (f = 0; f < ns; f++) {
     uint64_t c;
     if (!StoredChecksum(file, t[f].path, &c)) {
@@ -905,6 +920,23 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
     PetscCall(PSCellsExchange(C));
     PetscCall(PSGridIndex(S->da, &ix));
     PetscCall(PSCellsNodalMass(S, &ix));
+  }
+  /* the contact's friction work: each rank its own on the same rank count, else all on rank 0 */
+  if (S->contact) {
+    S->contact->friction_work = 0.0;
+    if (H5Lexists(file, "/contact", H5P_DEFAULT) > 0) {
+      PetscInt   R;
+      PetscReal *books;
+      grp = H5Gopen2(file, "/contact", H5P_DEFAULT);
+      R   = (PetscInt)Rows(grp, "ranks");
+      PetscCall(PetscMalloc1(PetscMax(R, 1), &books));
+      PetscCall(ReadAll(grp, "ranks", H5T_NATIVE_DOUBLE, books));
+      if (R == size) S->contact->friction_work = books[rank];
+      else if (!rank)
+        for (r = 0; r < R; r++) S->contact->friction_work += books[r];
+      PetscCall(PetscFree(books));
+      H5Gclose(grp);
+    }
   }
   H5Fclose(file);
   S->t            = state[0];

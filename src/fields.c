@@ -36,10 +36,10 @@ PetscErrorCode PSFieldsGet(PSSolver *S, PSFields *f)
   if (S->scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
   if (S->scene->ndamage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
   if (S->scene->need_affine) PetscCall(DMSwarmGetField(sw, PS_FIELD_AFFINE, NULL, NULL, (void **)&f->C));
+  if (S->scene->anisotropic || S->contact) PetscCall(DMSwarmGetField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body)); /* orthotropic kernels, contact fields */
   if (S->scene->anisotropic) {
     PetscCall(DMSwarmGetField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&f->axes));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
-    PetscCall(DMSwarmGetField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body));
     if (S->has_ply) PetscCall(DMSwarmGetField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply));
   }
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -10,11 +10,14 @@
                             materials), density, pressure, velocity (ny, nx, dim),
                             specific_energy, cell-centred (cells/cells.c)
   OUTDIR/history.csv        step, time, dt, markers, mass, px, py[, pz], kinetic,
-                            internal, total (= kinetic + internal + lost_energy),
-                            lost_mass, lost_energy, max_pressure (0 once nothing is
-                            left), of markers and cell materials together; with cell
-                            materials also remap_heat and coupling_work (J, cumulative,
-                            both included in internal)
+                            internal, total (= kinetic + internal + lost_energy +
+                            friction_work + interface_energy), lost_mass, lost_energy,
+                            max_pressure (0 once nothing is left), of markers and cell
+                            materials together; with cell materials also remap_heat and
+                            coupling_work (J, cumulative, both included in internal);
+                            then interface_energy (0: no cohesive ply interfaces yet)
+                            and friction_work (J, cumulative: the kinetic energy the
+                            contact's friction removed, contact.c)
   OUTDIR/bodies.csv         time, body, mass, px, py[, pz], kinetic, vx, vy[, vz]
   OUTDIR/gauges.csv         time, gauge, marker id, present, position, velocity, pressure,
                             Cauchy stress (Pa, tension positive) of the marker each gauge follows
@@ -121,8 +124,9 @@ static PetscErrorCode History(PSSolver *S, PSRunIO *io)
   if (!rank && io->hist) {
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, "%" PetscInt_FMT ",%.10e,%.6e,%lld,%.12e,%.12e,%.12e", S->step, (double)S->t, (double)S->dt, (long long)T.markers, (double)T.mass, (double)T.p[0], (double)T.p[1]));
     if (dim == 3) PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e", (double)T.p[2]));
-    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.6e", (double)T.kinetic, (double)T.internal, (double)(T.kinetic + T.internal + T.lost_energy), (double)T.lost_mass, (double)T.lost_energy, (double)T.max_pressure));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e,%.12e,%.12e,%.12e,%.12e,%.6e", (double)T.kinetic, (double)T.internal, (double)(T.kinetic + T.internal + T.lost_energy + T.friction_work + T.interface_energy), (double)T.lost_mass, (double)T.lost_energy, (double)T.max_pressure));
     if (S->cells) PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e,%.12e", (double)T.remap_heat, (double)T.coupling_work));
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, ",%.12e,%.12e", (double)T.interface_energy, (double)T.friction_work));
     PetscCall(PetscFPrintf(PETSC_COMM_SELF, io->hist, "\n"));
   }
   /* per body: mass, momentum, kinetic energy */
@@ -282,7 +286,7 @@ PetscErrorCode PSSolverRun(PSSolver *S, const char outdir[], PetscInt nattr, con
   PetscCall(DMDACreateCompatibleDMDA(S->da, 1, &io.da1));
   PetscCall(DMCreateGlobalVector(io.da1, &io.out1));
   if (!rank) {
-    PetscCall(PetscSNPrintf(head, sizeof(head), "step,time,dt,markers,mass,px,py%s,kinetic,internal,total,lost_mass,lost_energy,max_pressure%s\n", dim == 3 ? ",pz" : "", S->cells ? ",remap_heat,coupling_work" : ""));
+    PetscCall(PetscSNPrintf(head, sizeof(head), "step,time,dt,markers,mass,px,py%s,kinetic,internal,total,lost_mass,lost_energy,max_pressure%s,interface_energy,friction_work\n", dim == 3 ? ",pz" : "", S->cells ? ",remap_heat,coupling_work" : ""));
     PetscCall(OpenCSV(S, outdir, "history.csv", head, &io.hist));
     PetscCall(PetscSNPrintf(head, sizeof(head), "time,body,mass,px,py%s,kinetic,vx,vy%s\n", dim == 3 ? ",pz" : "", dim == 3 ? ",vz" : ""));
     PetscCall(OpenCSV(S, outdir, "bodies.csv", head, &io.bodies));

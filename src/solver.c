@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include "step.h"
 #include "cells/cells.h"
+#include "contact.h"
 
 const char *const PSShapeTypes[]    = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
 const char *const PSTransferTypes[] = {"musl", "apic", "PSTransferType", "PS_TRANSFER_", NULL};
@@ -180,6 +181,7 @@ PetscErrorCode PSSolverDestroy(PSSolver **S)
   if ((*S)->cell_V) PetscCall(PetscFree2((*S)->cell_V, (*S)->cell_trL));
   PetscCall(PetscFree((*S)->gauge_id));
   PetscCall(PSCellsDestroy(&(*S)->cells));
+  PetscCall(PSContactDestroy(&(*S)->contact));
   PetscCall(PetscFree(*S));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -31,8 +31,12 @@
   go to their owners and the owners' values come back through a PetscSF
   (halo.c); zeroing and grid loops cover only the nodes the markers reach.
 
-  Single velocity field: bodies and plies that touch stay bonded (no contact
-  algorithm, no delamination).
+  Velocity fields: one, in which bodies and plies that touch stay bonded,
+  unless the scene has marker bodies in contact (deck `contact:`, default
+  friction 0 between different bodies): then each body (or group of bonded
+  bodies) has its own field at the nodes where two or more meet, with a
+  contact law there (contact.c, MUSL only).  Plies of a laminate stay bonded
+  (no delamination).
 
   Units: SI.  Suffixes: _p marker, _i node.
 */
@@ -188,6 +192,8 @@ typedef struct {
   PetscReal  max_pressure;                           /* Pa */
   PetscReal  remap_heat;                             /* J: kinetic energy the cells' remap put into internal energy (included in internal) */
   PetscReal  coupling_work;                          /* J: work of fitting cell materials around the markers (included in internal) */
+  PetscReal  friction_work;                          /* J: kinetic energy the contact's friction removed (contact.c), cumulative */
+  PetscReal  interface_energy;                       /* J: energy held or dissipated by ply interfaces (0: no cohesive interfaces yet) */
   PetscInt64 markers, lost_markers;
 } PSTotals;
 
@@ -204,6 +210,7 @@ typedef struct {
   PetscReal     *gbuf, *hbuf;    /* the allocations behind Gl and Hl ... */
   PetscReal     *g, *hv;         /* ... and their arrays, which start on a 64-byte boundary */
   struct PSCells_ *cells;        /* Eulerian cell materials (cells/); NULL in a scene without cell bodies */
+  struct PSContact_ *contact;    /* velocity fields of bodies in contact (contact.c); NULL: the single field */
   PetscSF        sfg, sfh;       /* ghost exchange of Gl and Hl (halo.c) */
   PetscInt       dim, pad;
   PetscReal      h[3];           /* cell size (m) */
@@ -246,6 +253,7 @@ PETSC_EXTERN PetscErrorCode PSSolverMigrate(PSSolver *);
 PETSC_EXTERN PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *);
 PETSC_EXTERN PetscErrorCode PSSolverRun(PSSolver *, const char outdir[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
 PETSC_EXTERN PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt n, const PetscInt64 ids[]);
+PETSC_EXTERN PetscErrorCode PSSolverSetContact(PSSolver *, PetscInt nbody, const PetscInt field[], PetscInt nfield, const PetscReal mu[]);
 PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverCellsGet(PSSolver *, PetscInt cs[3], PetscInt cm[3], PetscInt layout[3], PetscReal *out);

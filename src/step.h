@@ -7,6 +7,8 @@
                      nodal velocity with the boundary conditions (PSGridUpdate)
     transfer_musl.c  MUSL: P2G, G2P with the re-projection, L_p (PSP2G, PSG2P, PSReproject)
     transfer_apic.c  APIC/MLS-MPM: P2G, G2P (PSP2G, PSG2P)
+    contact.c        bodies in contact: per-field P2G, grid update with the contact
+                     law, G2P and L_p (MUSL; contact.h)
     cells/           Eulerian cell materials: their part of P2G, Lagrangian phase, remap
     stress.c         velocity gradient, F-bar, constitutive update, x_p += dx_p (PSStress)
     migrate.c        markers out of the domain booked and removed, the rest migrated (PSMigrate)

@@ -1,11 +1,12 @@
 /*
   totals.c - the conserved totals over all ranks (mass, momentum, kinetic and
-  internal energy of markers and cell materials) with the booked losses, for
-  history.csv and the tests.  With nothing left the peak pressure is 0 (there
+  internal energy of markers and cell materials) with the booked losses and
+  the contact's friction work, for history.csv and the tests.  With nothing left the peak pressure is 0 (there
   is no material to carry one), never the -DBL_MAX the maximum starts from.
 */
 #include "step.h"
 #include "cells/cells.h"
+#include "contact.h"
 
 /* Global totals now, with the booked losses. */
 PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
@@ -38,7 +39,8 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
     loc[6] = S->cells->remap_heat;
     loc[7] = S->cells->coupling_work;
   }
-  PetscCallMPI(MPI_Allreduce(loc, glob, 8, MPIU_REAL, MPI_SUM, comm));
+  if (S->contact) loc[8] = S->contact->friction_work;
+  PetscCallMPI(MPI_Allreduce(loc, glob, 9, MPIU_REAL, MPI_SUM, comm));
   PetscCallMPI(MPI_Allreduce(&pmax, &T->max_pressure, 1, MPIU_REAL, MPI_MAX, comm));
   lost[0] = S->lost_local.mass;
   lost[1] = S->lost_local.p[0];
@@ -57,6 +59,8 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
   T->internal = glob[5];
   T->remap_heat    = glob[6];
   T->coupling_work = glob[7];
+  T->friction_work = glob[8];
+  T->interface_energy = 0.0; /* no cohesive ply interfaces yet */
   T->lost_mass = glost[0];
   T->lost_p[0] = glost[1];
   T->lost_p[1] = glost[2];

@@ -300,6 +300,10 @@ PetscErrorCode PSMUSLReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   if (S->cells) PSGridAddOwned(S, ix, S->cells->P, dim, hv + hdof - dim, hdof);
   PSGridVelocity(S, ix, S->g, PSGridDof(S), hv + hdof - dim, hdof);
   PetscCall(PSHaloBcast(S->sfh, hv));
+  if (S->contact) { /* L_p from the fields where bodies meet: contact.c (plane strain and 3D only) */
+    PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
+    PetscFunctionReturn(PETSC_SUCCESS);
+  }
 #define GRAD3(n)  GradientAll(S, f, ix, 3, n, PETSC_FALSE, hv)
 #define GRAD2(n)  GradientAll(S, f, ix, 2, n, PETSC_FALSE, hv)
 #define GRAD2A(n) GradientAll(S, f, ix, 2, n, PETSC_TRUE, hv)

@@ -9,7 +9,7 @@ from mpi4py import MPI
 import oblique_plate_2d
 import sphere_plate_3d
 import sphere_plate_axi
-from plyshock import core
+from plyshock import Contact, core
 from helpers import gather
 
 COMM = MPI.COMM_WORLD
@@ -80,7 +80,9 @@ def _check_impact(out, scene, projectile, v0, tmp):
     # faces x = 0, y = 0 act on px, py only (the sums of booked removals are added back)
     k = "py" if dim == 2 else "pz"
     assert H["lost_mass"][-1] == 0.0
-    assert abs(H[k][-1] - H[k][0]) <= 1e-10 * abs(H[k][0]), (H[k][0], H[k][-1])
+    # 1e-10 in one field; the sphere in contact with the plate (the default) drifts to 2.0e-10
+    # (measured; the force dropped on nodes lighter than run.mass_threshold, docs/contact.md): 1e-9
+    assert abs(H[k][-1] - H[k][0]) <= 1e-9 * abs(H[k][0]), (H[k][0], H[k][-1])
     B = np.genfromtxt(os.path.join(tmp, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
     pr = B[B["body"] == projectile]
     vz = ("vy" if dim == 2 else "vz")
@@ -234,7 +236,9 @@ def test_oblique_plate_2d_in_air_end_to_end(tmpdir_mpi):
     # 0.11 m/s faster (the air's push, about 0.4 MPa ahead and 15 kPa in the wake of an 8 x 3 mm steel
     # flyer over 8 us, gives about 0.13 m/s)
     from plyshock.cli import _run
-    vac = oblique_plate_2d.setup(cells=(96, 64)).validate()
+    vac = oblique_plate_2d.setup(cells=(96, 64))
+    vac.contact = Contact(type="bonded")          # as in air (bodies in cells need it): the same flyer-plate coupling
+    vac = vac.validate()
     _run(vac, vac.to_yaml(), os.path.join(tmpdir_mpi, "vacuum"))
     V = np.genfromtxt(os.path.join(tmpdir_mpi, "vacuum", "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
     dv = fl["vy"][-1] - V[V["body"] == "flyer"]["vy"][-1]

@@ -8,7 +8,7 @@ import pytest
 import yaml
 from mpi4py import MPI
 
-from plyshock import Body, Box, DeckError, Grid, Material, Run, Scene, Sphere
+from plyshock import Body, Box, Contact, DeckError, Grid, Material, Run, Scene, Sphere
 from plyshock import core
 from conftest import energy_and_work_per_step, run_cli
 
@@ -16,11 +16,12 @@ COMM = MPI.COMM_WORLD
 CU = Material("cu", density=8930.0, eos={"type": "mie-gruneisen", "c0": 3940.0, "s": 1.489, "gamma0": 2.02})
 
 
-def strip(length, width_cells, h, bodies, materials, run, dim=2):
+def strip(length, width_cells, h, bodies, materials, run, dim=2, contact=None):
     """A uniaxial-strain strip along x: symmetry on the sides."""
     cells = [round(length / h), width_cells]
     return Scene(dim, Grid([0.0, 0.0], [length, width_cells * h], cells,
-                           {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}), materials, bodies, run).validate()
+                           {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}), materials, bodies, run,
+                 contact=contact).validate()
 
 
 def history(outdir):
@@ -49,12 +50,15 @@ def run_scene(scene, outdir):
 @pytest.mark.parametrize("transfer,shape", [("musl", "gimp"), ("apic", "bspline2")])
 def test_copper_plate_impact_matches_the_hugoniot(transfer, shape, tmpdir_mpi):
     """Cu onto Cu at 500 m/s: u_p 250 m/s, p 9.63 GPa, Us 4312 m/s (impedance match),
-    with either transfer scheme."""
+    with either transfer scheme: musl with flyer and target in contact (the
+    default; measured 250.4 m/s, 9.636 GPa at 1 us), apic bonded (contact is
+    MUSL only; docs/contact.md)."""
     h = 50e-6
     W = 4 * h
     run = Run(t_end=1.0e-6, output_interval=0.5e-6, shape=shape, transfer=transfer)
     scene = strip(0.02, 4, h, [Body("flyer", box=Box([0.002, 0.0], [0.007, W]), material="cu", velocity=[500.0, 0.0], subdivision=2),
-                               Body("target", box=Box([0.007, 0.0], [0.017, W]), material="cu", subdivision=2)], [CU], run)
+                               Body("target", box=Box([0.007, 0.0], [0.017, W]), material="cu", subdivision=2)], [CU], run,
+                  contact=None if transfer == "musl" else Contact(type="bonded"))
     run_scene(scene, tmpdir_mpi)
     fronts = []
     for k, t in ((1, 0.5e-6), (2, 1.0e-6)):
@@ -85,7 +89,9 @@ def test_copper_plate_impact_matches_the_hugoniot(transfer, shape, tmpdir_mpi):
 
 @pytest.mark.parametrize("transfer", ["musl", "apic"])
 def test_elastic_wave_speed_in_uniaxial_strain(transfer, tmpdir_mpi):
-    """A velocity step in an elastic strip: fronts at sqrt((lambda + 2 mu)/rho)."""
+    """A velocity step in an elastic strip: fronts at sqrt((lambda + 2 mu)/rho).
+    The two halves are bonded: the step runs across a welded interface (and
+    contact is MUSL only)."""
     E, nu, rho = 200e9, 0.3, 7800.0
     c = np.sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho))
     h = 50e-6
@@ -93,7 +99,8 @@ def test_elastic_wave_speed_in_uniaxial_strain(transfer, tmpdir_mpi):
     run = Run(t_end=1.5e-6, output_interval=0.75e-6, shape="bspline2", transfer=transfer,
               artificial_viscosity={"c_linear": 0.0, "c_quadratic": 0.0})
     scene = strip(0.02, 3, h, [Body("left", box=Box([0.0, 0.0], [0.01, 3 * h]), material="el", velocity=[1.0, 0.0]),
-                               Body("right", box=Box([0.01, 0.0], [0.02, 3 * h]), material="el")], [steel], run)
+                               Body("right", box=Box([0.01, 0.0], [0.02, 3 * h]), material="el")], [steel], run,
+                  contact=Contact(type="bonded"))
     run_scene(scene, tmpdir_mpi)
     speed = front_speed(tmpdir_mpi, 0.0101)
     assert abs(speed - c) <= 0.02 * c, (speed, c)
@@ -102,12 +109,15 @@ def test_elastic_wave_speed_in_uniaxial_strain(transfer, tmpdir_mpi):
 def test_sulsky_disks_bounce_and_report_energy_loss(tmpdir_mpi):
     """Two elastic disks (Sulsky et al. 1994): they collide and bounce apart.
     Stated bound: MUSL with FLIP (the default) at 40 x 40 cells loses under 5% of the energy
-    (measured: about 1%; a PIC share dissipates more, 8% at pic_fraction 0.05)."""
+    (measured: about 1%; a PIC share dissipates more, 8% at pic_fraction 0.05).
+    In one velocity field (contact bonded): this measures the transfers; the
+    disks in contact (the default) are tests/test_contact.py's."""
     mat = Material("el", density=1000.0, elastic={"type": "isotropic", "E": 1000.0, "nu": 0.3})
     run = Run(t_end=3.5, cfl=0.4, shape="gimp", history_interval=5, artificial_viscosity={"c_linear": 0.0, "c_quadratic": 0.0})
     scene = Scene(2, Grid([0, 0], [1, 1], [40, 40]), [mat],
                   [Body("d1", sphere=Sphere([0.2, 0.2], 0.2), material="el", velocity=[0.1, 0.1], subdivision=2),
-                   Body("d2", sphere=Sphere([0.8, 0.8], 0.2), material="el", velocity=[-0.1, -0.1], subdivision=2)], run).validate()
+                   Body("d2", sphere=Sphere([0.8, 0.8], 0.2), material="el", velocity=[-0.1, -0.1], subdivision=2)], run,
+                  contact=Contact(type="bonded")).validate()
     run_scene(scene, tmpdir_mpi)
     H = history(tmpdir_mpi)
     E0 = H["total"][0]
@@ -124,7 +134,8 @@ def test_sulsky_disks_bounce_and_report_energy_loss(tmpdir_mpi):
 def test_3d_elastic_wave_and_conservation_under_each_transfer(tmpdir_mpi):
     """The 3D kernels (apic's 4-wide P2G/G2P, musl's): a velocity step in a
     uniaxial-strain bar (symmetry on the four sides) runs at
-    sqrt((lambda + 2 mu)/rho) within 2%; mass exact, momentum to round-off."""
+    sqrt((lambda + 2 mu)/rho) within 2%; mass exact, momentum to round-off.
+    The halves bonded (a welded interface; contact is MUSL only)."""
     E, nu, rho = 200e9, 0.3, 7800.0
     c = np.sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho))
     h = 100e-6
@@ -135,7 +146,8 @@ def test_3d_elastic_wave_and_conservation_under_each_transfer(tmpdir_mpi):
                   artificial_viscosity={"c_linear": 0.0, "c_quadratic": 0.0})
         scene = Scene(3, Grid([0, 0, 0], [0.02, 3 * h, 3 * h], [200, 3, 3], bc), [steel],
                       [Body("left", box=Box([0.0, 0, 0], [0.01, 3 * h, 3 * h]), material="el", velocity=[1.0, 0.0, 0.0]),
-                       Body("right", box=Box([0.01, 0, 0], [0.02, 3 * h, 3 * h]), material="el")], run).validate()
+                       Body("right", box=Box([0.01, 0, 0], [0.02, 3 * h, 3 * h]), material="el")], run,
+                      contact=Contact(type="bonded")).validate()
         out = os.path.join(tmpdir_mpi, transfer)
         run_scene(scene, out)
         speed = front_speed(out, 0.0102)
@@ -151,7 +163,8 @@ def test_apic_dissipates_between_flip_and_pic_and_conserves_momentum(tmpdir_mpi)
     loses under 5%, APIC (run.transfer apic) under 20% (measured 13%: APIC drops
     the non-affine part of each marker's velocity field), pure PIC (musl with
     pic_fraction 1) more than twice APIC's loss (measured 43%).  Every transfer
-    keeps mass exact and momentum to round-off (the disks' momenta cancel)."""
+    keeps mass exact and momentum to round-off (the disks' momenta cancel).
+    One velocity field (contact bonded): this compares the transfers."""
     mat = Material("el", density=1000.0, elastic={"type": "isotropic", "E": 1000.0, "nu": 0.3})
     loss = {}
     for name, transfer, pic in (("flip", "musl", 0.0), ("apic", "apic", 0.0), ("pic", "musl", 1.0)):
@@ -159,7 +172,8 @@ def test_apic_dissipates_between_flip_and_pic_and_conserves_momentum(tmpdir_mpi)
                   artificial_viscosity={"c_linear": 0.0, "c_quadratic": 0.0})
         scene = Scene(2, Grid([0, 0], [1, 1], [40, 40]), [mat],
                       [Body("d1", sphere=Sphere([0.2, 0.2], 0.2), material="el", velocity=[0.1, 0.1], subdivision=2),
-                       Body("d2", sphere=Sphere([0.8, 0.8], 0.2), material="el", velocity=[-0.1, -0.1], subdivision=2)], run).validate()
+                       Body("d2", sphere=Sphere([0.8, 0.8], 0.2), material="el", velocity=[-0.1, -0.1], subdivision=2)], run,
+                      contact=Contact(type="bonded")).validate()
         out = os.path.join(tmpdir_mpi, name)
         run_scene(scene, out)
         H = history(out)
@@ -241,7 +255,7 @@ def test_apic_one_and_two_ranks_give_the_same_history(tmpdir_mpi):
                         {"name": "cu", "density": 8930.0, "elastic": {"type": "isotropic", "E": 124e9, "nu": 0.34}}]}
     for kind, m in mats.items():
         deck = os.path.join(tmpdir_mpi, f"{kind}.yaml")
-        _write_deck(deck, dict(PLATE, materials=m))
+        _write_deck(deck, dict(PLATE, materials=m, contact={"type": "bonded"}))     # contact is MUSL only
         hs = []
         for k in (1, 2):
             out = os.path.join(tmpdir_mpi, f"{kind}{k}")
@@ -258,15 +272,17 @@ def test_apic_one_and_two_ranks_give_the_same_history(tmpdir_mpi):
 def test_four_ranks_in_a_2x2_grid_match_one_rank(tmpdir_mpi):
     """The ghost exchange (halo.c) with ranks on both sides of a node, corners
     included: Sulsky's disks split 2 x 2 cross every cut; 1 and 4 ranks give the
-    same history to 1e-10 under both transfers."""
+    same history to 1e-10 under both transfers (musl with the disks in contact,
+    the default: the fields' ghost exchange too; apic bonded, contact is MUSL only)."""
     deck = os.path.join(tmpdir_mpi, "disks.yaml")
-    _write_deck(deck, {
+    disks = {
         "dimension": 2, "grid": {"lower": [0, 0], "upper": [1, 1], "cells": [40, 40]},
         "materials": [{"name": "el", "density": 1000.0, "elastic": {"type": "isotropic", "E": 1000.0, "nu": 0.3}}],
         "bodies": [{"name": "d1", "material": "el", "sphere": {"center": [0.2, 0.2], "radius": 0.2}, "velocity": [0.1, 0.1]},
                    {"name": "d2", "material": "el", "sphere": {"center": [0.8, 0.8], "radius": 0.2}, "velocity": [-0.1, -0.1]}],
-        "run": {"t_end": 3.0, "shape": "bspline2", "history_interval": 10}})
+        "run": {"t_end": 3.0, "shape": "bspline2", "history_interval": 10}}
     for transfer in ("musl", "apic"):
+        _write_deck(deck, disks if transfer == "musl" else dict(disks, contact={"type": "bonded"}))
         hs = []
         for k in (1, 4):
             out = os.path.join(tmpdir_mpi, f"{transfer}{k}")
@@ -277,8 +293,13 @@ def test_four_ranks_in_a_2x2_grid_match_one_rank(tmpdir_mpi):
         assert len(a) == len(b) and a["step"][-1] > 300
         for n in ("time", "mass", "kinetic", "internal", "total"):
             assert np.max(np.abs(a[n] - b[n])) <= 1e-10 * np.abs(a[n]).max(), (transfer, n)
-        for n in ("px", "py"):                              # both zero: round-off on one disk's momentum
-            assert np.max(np.abs(b[n])) <= 1e-12 * 1000 * np.pi * 0.04 * 0.1, (transfer, n)
+        # both zero: round-off on one disk's momentum in one field (apic, bonded); the disks in
+        # contact (musl) drift to 9.4e-5 of it after their rebound (measured): the force dropped
+        # on nodes lighter than run.mass_threshold no longer cancels between the disks once the
+        # contact's tie rule has broken their mirror symmetry (docs/contact.md), so bound 2e-4
+        bound = 2e-4 if transfer == "musl" else 1e-12
+        for n in ("px", "py"):
+            assert np.max(np.abs(b[n])) <= bound * 1000 * np.pi * 0.04 * 0.1, (transfer, n)
 
 
 @pytest.mark.parametrize("case", ["steel-on-aluminium-5km/s", "stiff-bonded-to-soft"])
@@ -398,7 +419,7 @@ def test_restart_continues_bitwise_and_on_another_rank_count(transfer, tmpdir_mp
     """musl: the Johnson-Cook plate deck; apic: its hydrodynamic variant (see
     test_apic_one_and_two_ranks_give_the_same_history)."""
     deck = os.path.join(tmpdir_mpi, "plate.yaml")
-    _write_deck(deck, PLATE if transfer == "musl" else dict(PLATE, materials=HYDRO))
+    _write_deck(deck, PLATE if transfer == "musl" else dict(PLATE, materials=HYDRO, contact={"type": "bonded"}))  # contact is MUSL only
     opts = APIC if transfer == "apic" else []
     full, half = os.path.join(tmpdir_mpi, "full"), os.path.join(tmpdir_mpi, "half")
     for args in (["-o", full], ["-o", half, "-run_t_end", "1e-6"]):

@@ -138,7 +138,7 @@ cdef extern from "solver.h":
         PetscBool aniso
         PSPly ply
     ctypedef struct PSTotals:
-        PetscReal mass, kinetic, internal, lost_mass, lost_energy, max_pressure
+        PetscReal mass, kinetic, internal, lost_mass, lost_energy, max_pressure, friction_work, interface_energy
         PetscReal p[3]
         PetscReal lost_p[3]
         PetscInt64 markers, lost_markers
@@ -154,6 +154,7 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverMaxSpeed(PSSolver *)
     PetscErrorCode PSSolverStep(PSSolver *, PetscReal)
     PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *)
+    PetscErrorCode PSSolverSetContact(PSSolver *, PetscInt, const PetscInt *, PetscInt, const PetscReal *)
     PetscErrorCode PSSolverCellsGet(PSSolver *, PetscInt *, PetscInt *, PetscInt *, PetscReal *)
     PetscErrorCode PSSolverCellNodesGet(PSSolver *, PetscInt *, PetscInt *, PetscReal *)
     PetscErrorCode PSSolverRun(PSSolver *, const char *, PetscInt, const char **, const char **, const char **, const char **)
@@ -498,7 +499,18 @@ cdef class Solver:
         CHK(PSSolverTotals(self.S, &T))
         return dict(mass=T.mass, p=[T.p[0], T.p[1], T.p[2]], kinetic=T.kinetic, internal=T.internal,
                     lost_mass=T.lost_mass, lost_p=[T.lost_p[0], T.lost_p[1], T.lost_p[2]], lost_energy=T.lost_energy,
-                    max_pressure=T.max_pressure, markers=T.markers, lost_markers=T.lost_markers)
+                    max_pressure=T.max_pressure, markers=T.markers, lost_markers=T.lost_markers,
+                    friction_work=T.friction_work, interface_energy=T.interface_energy)
+
+    def set_contact(self, fields, nfield, mu):
+        """Velocity fields of the bodies (field of each body, -1 for bodies in
+        cells; nfield < 2: the single field) and the nfield x nfield friction
+        coefficients."""
+        cdef PetscInt[::1] f = np.ascontiguousarray(fields, dtype=np.int32 if sizeof(PetscInt) == 4 else np.int64)
+        cdef double[::1] m = np.ascontiguousarray(np.asarray(mu, dtype=float).reshape(-1) if nfield > 0 else np.zeros(1))
+        if len(f) == 0:
+            return
+        CHK(PSSolverSetContact(self.S, len(f), &f[0], nfield, &m[0]))
 
     def cells(self):
         """This rank's owned cells: {start (3), state (nz, ny, nx, dof) with

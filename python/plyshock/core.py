@@ -87,7 +87,18 @@ def run_options(scene):
     if scene.axisymmetric and params["transfer"] != "musl":
         raise DeckError("run.transfer", f"{params['transfer']} is not available with geometry: axisymmetric; allowed: musl "
                         "(the deck's run.transfer or the option -run_transfer)")
+    if params["transfer"] != "musl" and contact_fields(scene)[1] >= 2:
+        raise DeckError("contact", f"friction needs run.transfer: musl (got {params['transfer']}; multi-field contact "
+                        "is implemented for MUSL only); set run.transfer: musl, or contact: {type: bonded}")
     return params
+
+
+def contact_fields(scene):
+    """(field of each body, nfield, friction matrix) of the scene's contact
+    section (scene.Contact.fields); one field without a section (not validated)."""
+    if scene.contact is None:
+        return [0] * len(scene.bodies), 1, np.zeros((1, 1))
+    return scene.contact.fields(scene)
 
 
 def transfer(scene):
@@ -578,6 +589,9 @@ def make_solver(m, restart=None, verified=False):
     faces = ["x-", "x+", "y-", "y+", "z-", "z+"][: 2 * scene.dimension]
     bc = [BC_CODE[scene.grid.boundary[f]] for f in faces] + [0] * (6 - len(faces))
     S = _core.Solver(m.cs, m.da, m.sw, params, mats, bc)
+    field, nfield, mu = contact_fields(scene)
+    if nfield >= 2:
+        S.set_contact(field, nfield, mu)   # each group of bonded bodies its own velocity field (contact.c)
     if not restart:
         S.initial_state()      # bodies in cells; markers' initial pressures
     if scene.gauges and not restart:

@@ -412,6 +412,115 @@ class Run:
         return self
 
 
+CONTACT_TYPES = ("friction", "bonded")
+
+
+@dataclass
+class Contact:
+    """The deck's `contact:` section: how marker bodies meet (docs/contact.md).
+    Default: friction 0 between every two bodies (each body its own velocity
+    field: bodies separate and slide); type bonded joins them in one field.
+    pairs: [{bodies: [a, b], type: bonded|friction, friction: mu}] set single
+    pairs; bonded is transitive (a field is a group of bodies joined by bonded
+    pairs)."""
+    type: str = "friction"               # friction | bonded: between bodies no pair names
+    friction: float = 0.0                # Coulomb coefficient (-), [0, inf)
+    pairs: Optional[list] = None
+
+    KEYS = ("type", "friction", "pairs")
+    PAIR_KEYS = ("bodies", "type", "friction")
+
+    def validate(self, bodies, path="contact"):
+        """bodies: {name: deck index} of the scene's bodies."""
+        if self.type not in CONTACT_TYPES:
+            raise DeckError(f"{path}.type", f"unknown contact type {self.type!r}; allowed: {'|'.join(CONTACT_TYPES)}")
+        self.friction = number(self.friction, f"{path}.friction", 0.0)
+        if self.pairs is None:
+            return self
+        if not isinstance(self.pairs, list):
+            raise DeckError(f"{path}.pairs", "must be a list of {bodies: [a, b], type: bonded|friction, friction: mu}")
+        seen = {}
+        for i, pr in enumerate(self.pairs):
+            pp = f"{path}.pairs[{i}]"
+            check_keys(pr, self.PAIR_KEYS, pp)
+            names = pr.get("bodies")
+            if not isinstance(names, list) or len(names) != 2:
+                raise DeckError(f"{pp}.bodies", f"must be a list of two body names, got {names!r}")
+            for j, nm in enumerate(names):
+                if nm not in bodies:
+                    import difflib
+                    near = difflib.get_close_matches(str(nm), list(bodies), n=1)
+                    raise DeckError(f"{pp}.bodies[{j}]", f"unknown body {nm!r}{'; did you mean ' + repr(near[0]) + '?' if near else ''} "
+                                    f"(defined: {', '.join(bodies)})")
+            if names[0] == names[1]:
+                raise DeckError(f"{pp}.bodies", f"names {names[0]!r} twice; a pair is two different bodies")
+            key = frozenset(names)
+            if key in seen:
+                raise DeckError(f"{pp}.bodies", f"the pair {names[0]!r}, {names[1]!r} is already {path}.pairs[{seen[key]}]")
+            seen[key] = i
+            pr.setdefault("type", "friction")
+            if pr["type"] not in CONTACT_TYPES:
+                raise DeckError(f"{pp}.type", f"unknown contact type {pr['type']!r}; allowed: {'|'.join(CONTACT_TYPES)}")
+            if pr["type"] == "bonded" and "friction" in pr:
+                raise DeckError(f"{pp}.friction", "applies to type friction only; a bonded pair shares one velocity field")
+            if pr["type"] == "friction":
+                pr["friction"] = number(pr.get("friction", self.friction), f"{pp}.friction", 0.0)
+        return self
+
+    def fields(self, scene):
+        """(field of each body, -1 for bodies in cells; nfield; nfield x nfield
+        friction coefficients).  Fields are the groups of marker bodies joined
+        by bonded pairs (the section's type for pairs not listed)."""
+        idx = {b.name: i for i, b in enumerate(scene.bodies)}
+        marker = [i for i, b in enumerate(scene.bodies) if b.representation == "markers"]
+        listed = {}
+        for i, pr in enumerate(self.pairs or []):
+            a, b = (idx[n] for n in pr["bodies"])
+            listed[frozenset((a, b))] = (i, pr["type"], pr.get("friction", 0.0))
+        parent = {i: i for i in marker}
+
+        def root(i):
+            while parent[i] != i:
+                i = parent[i]
+            return i
+        for x in marker:
+            for y in marker:
+                if x < y and listed.get(frozenset((x, y)), (None, self.type))[1] == "bonded":
+                    parent[root(y)] = root(x)
+        field, roots = [-1] * len(scene.bodies), []
+        for i in marker:
+            r = root(i)
+            if r not in roots:
+                roots.append(r)
+            field[i] = roots.index(r)
+        nf = len(roots)
+        mu = np.full((nf, nf), -1.0)
+        # listed pairs first, then the section's friction between groups no listed pair joins
+        for listed_pass in (True, False):
+            for x in marker:
+                for y in marker:
+                    if x >= y or (frozenset((x, y)) in listed) != listed_pass:
+                        continue
+                    i, kind, f = listed.get(frozenset((x, y)), (None, self.type, self.friction))
+                    a, b = field[x], field[y]
+                    pp = f"contact.pairs[{i}]" if i is not None else "contact"
+                    if a == b:
+                        if kind == "friction":
+                            raise DeckError(f"{pp}.type", f"bodies {scene.bodies[x].name!r} and {scene.bodies[y].name!r} are bonded "
+                                            "through other pairs (bonded is transitive: list the pairs of the group as friction)")
+                        continue
+                    if not listed_pass:
+                        if mu[a, b] < 0:
+                            mu[a, b] = mu[b, a] = f
+                        continue
+                    if mu[a, b] >= 0 and mu[a, b] != f:
+                        raise DeckError(f"{pp}.friction", f"{f} differs from {mu[a, b]} between the same two groups of bonded bodies "
+                                        f"({scene.bodies[x].name!r} and {scene.bodies[y].name!r}); one coefficient per pair of groups")
+                    mu[a, b] = mu[b, a] = f
+        mu[mu < 0] = 0.0
+        return field, nf, mu
+
+
 @dataclass
 class Body:
     name: str
@@ -449,8 +558,9 @@ class Scene:
     run: Optional[Run] = None
     gauges: Optional[list] = None        # [{name, point: [x, y(, z)]}]: each follows the marker nearest at t = 0
     geometry: Optional[str] = None       # plane-strain (None: the default) | axisymmetric (2D: x = r, y = z)
+    contact: Optional[Contact] = None    # how marker bodies meet; None: friction 0 between different bodies
 
-    KEYS = ("dimension", "grid", "materials", "bodies", "run", "gauges", "geometry")
+    KEYS = ("dimension", "grid", "materials", "bodies", "run", "gauges", "geometry", "contact")
 
     @property
     def axisymmetric(self):
@@ -487,6 +597,18 @@ class Scene:
                 self._validate_axisymmetric_body(b, f"bodies[{i}]")
         if self.run is not None:
             self.run.validate()
+        if self.contact is None:
+            self.contact = Contact()
+        elif not isinstance(self.contact, Contact):
+            raise DeckError("contact", "must be a mapping {type: friction|bonded, friction: mu, pairs: [...]}")
+        self.contact.validate(bnames)
+        if self.contact.fields(self)[1] >= 2 and any(b.representation == "cells" for b in self.bodies):
+            raise DeckError("contact", "friction between marker bodies is not supported with bodies in cells yet "
+                            "(their force reaches the single velocity field only: docs/contact.md); "
+                            "set contact: {type: bonded}")
+        if self.contact.fields(self)[1] >= 2 and self.axisymmetric:
+            raise DeckError("contact", "friction between marker bodies is not supported with geometry: axisymmetric yet "
+                            "(the fields' velocity gradient has no hoop term: docs/contact.md); set contact: {type: bonded}")
         if self.gauges is not None:
             if not isinstance(self.gauges, list):
                 raise DeckError("gauges", "must be a list of {name, point}")
@@ -752,7 +874,11 @@ class Scene:
             if "t_end" not in d["run"]:
                 raise DeckError("run.t_end", "is required (s, > 0)")
             run = Run(**d["run"])
-        return Scene(d["dimension"], grid, mats, bodies, run, d.get("gauges"), d.get("geometry"))
+        contact = None
+        if d.get("contact") is not None:
+            check_keys(d["contact"], Contact.KEYS, "contact")
+            contact = Contact(**d["contact"])
+        return Scene(d["dimension"], grid, mats, bodies, run, d.get("gauges"), d.get("geometry"), contact)
 
 
 def _laminate_from_dict(d, path):

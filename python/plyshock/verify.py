@@ -48,7 +48,9 @@ import time
 
 import numpy as np
 
-from .scene import Body, Box, Frame, Grid, Laminate, Material, Run, Scene
+from .scene import Body, Box, Contact, Frame, Grid, Laminate, Material, Run, Scene
+
+BONDED = Contact(type="bonded")   # the studies measure the transfers: bodies in one velocity field (docs/contact.md)
 
 CU = dict(rho=8930.0, c0=3940.0, s=1.489, gamma0=2.02)
 EL = dict(E=200e9, nu=0.3, rho=7800.0)
@@ -58,7 +60,8 @@ LENGTH = 0.02
 def _strip(h, bodies, materials, run, width=2):
     cells = [round(LENGTH / h), width]
     return Scene(2, Grid([0.0, 0.0], [LENGTH, width * h], cells,
-                         {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}), materials, bodies, run).validate()
+                         {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}), materials, bodies, run,
+                 contact=BONDED).validate()
 
 
 def plate_problem(h, shape):
@@ -428,7 +431,7 @@ def laminate_wave_scene(h, insertion, n):
     return Scene(2, Grid([0.0, 0.0], [LW["LX"], W], [round(LW["LX"] / h), round(W / h)], {"y-": "symmetry", "y+": "symmetry"}),
                  mats, bodies, Run(t_end=LW["t_end"], history_interval=1, progress_interval=10**9,
                                    artificial_viscosity={"c_linear": 0.0, "c_quadratic": 0.0}),
-                 gauges=[{"name": "behind", "point": [LW["gauge"], W / 2]}]).validate()
+                 gauges=[{"name": "behind", "point": [LW["gauge"], W / 2]}], contact=BONDED).validate()
 
 
 def run_laminate_wave(h, insertion, n, workdir):

@@ -140,7 +140,7 @@ def slab(representation, n_carry, h=0.5e-3, load=True):
     with load, against a wall for 4 us.  Returns (x, plastic strain per cell
     of the slab region along the middle row, wall s, steps)."""
     from petsc4py import PETSc
-    from .scene import Body, Box, Grid, Material, Run, Scene
+    from .scene import Body, Box, Contact, Grid, Material, Run, Scene
     from . import core
     L, v = 40 * h, 200.0
     x0 = 2 * h
@@ -153,7 +153,7 @@ def slab(representation, n_carry, h=0.5e-3, load=True):
                                                              "y-": "symmetry", "y+": "symmetry"}),
                   [al], [Body("strained", box=Box([x0, 0], [x0 + L / 2, 4 * h]), material="al", velocity=[v, 0.0], plastic_strain=1.0, **rep),
                          Body("virgin", box=Box([x0 + L / 2, 0], [x0 + L, 4 * h]), material="al", velocity=[v, 0.0], **rep)],
-                  Run(t_end=t_end, cfl=0.3)).validate()
+                  Run(t_end=t_end, cfl=0.3), contact=Contact(type="bonded")).validate()   # one slab in two bodies: welded
     S, m, wall, steps = _run(scene, t_end)
     comm = PETSc.COMM_WORLD.tompi4py()
     edges = np.arange(nx + 1) * h

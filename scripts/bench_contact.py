@@ -1,0 +1,59 @@
+"""Contact's overhead (issue 13, item 5): the 2D oblique plate example
+(examples/oblique_plate_2d.py at its default 240 x 160 cells; the flyer and
+the plate) run with its default contact (each body its own velocity field
+where they meet, friction 0) and with `contact: {type: bonded}` (one field),
+in this same process: marker-steps per second per core, best of three runs
+of 100 steps after the flyer has reached the plate (the first 300 steps are
+not timed), no output.
+
+    mpiexec -n 1 .venv/bin/python scripts/bench_contact.py
+"""
+import os
+import sys
+import time
+
+import petsc4py
+
+petsc4py.init(sys.argv[:1] + [a for a in sys.argv[1:] if a.startswith("-")])
+from petsc4py import PETSc  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples"))
+import oblique_plate_2d  # noqa: E402
+
+from plyshock import Contact, core  # noqa: E402
+
+comm = PETSc.COMM_WORLD
+mpi = comm.tompi4py()
+STEPS, WARM = 100, 300
+
+
+def bench(contact):
+    scene = oblique_plate_2d.setup()
+    scene.contact = contact
+    scene = scene.validate()
+    core.run_options(scene)
+    m = core.initialize(scene)
+    S = core.make_solver(m)
+    for _ in range(WARM):
+        S.step()
+    ts = []
+    for _ in range(3):
+        mpi.Barrier()
+        t = time.perf_counter()
+        for _ in range(STEPS):
+            S.step()
+        mpi.Barrier()
+        ts.append(time.perf_counter() - t)
+    n = m.stats["markers"]
+    return n * STEPS / min(ts) / comm.getSize(), n
+
+
+multi, n = bench(None)                                 # the default: friction 0 between flyer and plate
+bonded, _ = bench(Contact(type="bonded"))
+r = comm.getSize()
+if comm.getRank() == 0:
+    print(f"contact benchmark (oblique plate 2D, 240 x 160 cells, {n} markers, {STEPS} steps after {WARM}): {r} rank(s)")
+    print(f"  contact (two fields where flyer and plate meet): {multi / 1e6:.3f} M marker-steps/s/core; "
+          f"bonded (one field): {bonded / 1e6:.3f} M/s/core; contact runs {multi / bonded:.2f}x bonded")
+    print(f"BENCH contact_multi_{r} {multi:.6e}")
+    print(f"BENCH contact_bonded_{r} {bonded:.6e}")

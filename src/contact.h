@@ -1,0 +1,44 @@
+/*
+  contact.h - multi-velocity-field contact between marker bodies (internal;
+  contact.c has the method and its sources, docs/contact.md the contract).
+
+  Each field is a group of marker bodies joined by bonded pairs (the front end
+  makes the groups, python/plyshock/scene.py).  A scene with one field (one
+  body, or `contact: {type: bonded}`) has no PSContact: the step runs the
+  single-field MUSL kernels unchanged.
+
+  Node layout of the field array g, per field k (fs = 1 + 3 dim reals):
+      P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip]
+      grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k]   (shared nodes)
+  and of the re-projection array h, per field k (dim reals):
+      [(mv)_k] -> [v_k] (shared nodes).
+  A node is shared when two or more fields carry more than mass_min there; only
+  shared nodes use the fields, every other node the single field of the step's
+  grid array (S->g, S->hv), which holds the sum of all fields.
+*/
+#ifndef PLYSHOCK_CONTACT_H
+#define PLYSHOCK_CONTACT_H
+
+#include "step.h"
+
+typedef struct PSContact_ {
+  PetscInt   nfield;        /* velocity fields, >= 2 */
+  PetscInt   nbody;         /* bodies of the scene */
+  PetscInt  *field;         /* field of each body; -1: a body in cells (not a marker body) */
+  PetscReal *mu;            /* nfield x nfield Coulomb friction coefficients (-) */
+  PetscInt   fs;            /* reals per field and node in g: 1 + 3 dim */
+  PetscInt   gdof, hdof;    /* reals per node: nfield fs, nfield dim */
+  PetscInt   nl;            /* nodes of a rank's ghosted local array */
+  PetscReal *g, *h;         /* ghosted local arrays (layouts above) */
+  PetscSF    sfg, sfh;      /* their ghost exchange (halo.c) */
+  PetscInt   zbox[3][2];    /* nodes the last step wrote: g and h are zero elsewhere */
+  PetscReal  friction_work; /* this rank's kinetic energy removed by the tangential correction, cumulative (J) */
+} PSContact;
+
+PETSC_INTERN PetscErrorCode PSContactDestroy(PSContact **);
+PETSC_INTERN PetscErrorCode PSContactP2G(PSSolver *, PSFields *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSContactGridSolve(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSContactG2P(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSContactReproject(PSSolver *, PSFields *, const PSIndex *);
+
+#endif
