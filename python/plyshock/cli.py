@@ -11,7 +11,9 @@
     plyshock history OUTDIR --png FILE           energies, momentum, peak pressure against time
 
 Decks: dimension 2 (geometry: plane-strain, the default, or axisymmetric: x = r,
-y = z, masses of the full revolution) or 3.
+y = z, masses of the full revolution) or 3. Marker bodies meet in contact
+(contact: {type: friction, friction: 0.0} by default; {type: bonded} welds them);
+cells (representation: cells) hold gases and flowing metals as volume fractions.
 Options that start with a single dash (-log_view, -options_left, ...) go to PETSc.
 Bad input exits with status 2 and a message naming the deck key; so does a run
 stopped by a guard (a collapsing time step, an inverted marker) or a
