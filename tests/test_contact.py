@@ -8,46 +8,18 @@ import h5py
 import numpy as np
 from mpi4py import MPI
 
-from plyshock import Body, Box, Contact, DeckError, Grid, Material, Run, Scene, Sphere
+from plyshock import Body, Box, Contact, DeckError, Grid, Material, Run, Scene, Sphere  # noqa: F401
 from plyshock import core
 from conftest import clean, run_cli, write_deck
 
+from plyshock.verify_contact import AL, CU, V, slide, trap       # noqa: F401  the scenes, shared with plyshock verify --only contact
+from plyshock.verify_contact import bodies_csv as bodies        # {body name: its rows of bodies.csv}
+
 COMM = MPI.COMM_WORLD
-CU = Material("cu", density=8930.0, eos={"type": "mie-gruneisen", "c0": 3940.0, "s": 1.489, "gamma0": 2.02})
-AL = Material("al", density=2700.0, elastic={"type": "isotropic", "E": 70e9, "nu": 0.33})
-V = 100.0          # flyer speed of the trap (m/s)
 
 
 def history(outdir):
     return np.genfromtxt(os.path.join(outdir, "history.csv"), delimiter=",", names=True)
-
-
-def bodies(outdir):
-    """{body name: its rows of bodies.csv}"""
-    B = np.genfromtxt(os.path.join(outdir, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
-    return {n: B[B["body"] == n] for n in set(B["body"])}
-
-
-def trap(contact, t_end=1.5e-6, h=50e-6, d=1e-3):
-    """A copper flyer of thickness d at V onto two touching copper plates of
-    thickness d each, in uniaxial strain (a strip between symmetry faces)."""
-    W, L = 4 * h, 8e-3
-    bs = [Body("flyer", box=Box([1e-3, 0], [1e-3 + d, W]), material="cu", velocity=[V, 0.0], subdivision=2),
-          Body("front", box=Box([1e-3 + d, 0], [1e-3 + 2 * d, W]), material="cu", subdivision=2),
-          Body("rear", box=Box([1e-3 + 2 * d, 0], [1e-3 + 3 * d, W]), material="cu", subdivision=2)]
-    return Scene(2, Grid([0.0, 0.0], [L, W], [round(L / h), 4], {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}),
-                 [CU], bs, Run(t_end=t_end, output_interval=0.0), contact=contact).validate()
-
-
-def slide(mu, t_end=4e-6, h=0.25e-3, output_interval=0.0):
-    """An aluminium block (4 x 2 mm) thrown at (20, -10) m/s onto an aluminium
-    plate (20 x 2 mm) held on its lower face: it slides along the plate while
-    it bounces off it."""
-    bs = [Body("plate", box=Box([0.0, 0.0], [20e-3, 2e-3]), material="al", subdivision=2),
-          Body("block", box=Box([4e-3, 2e-3], [8e-3, 4e-3]), material="al", velocity=[20.0, -10.0], subdivision=2)]
-    return Scene(2, Grid([0.0, 0.0], [20e-3, 6e-3], [round(20e-3 / h), round(6e-3 / h)],
-                         {"x-": "free", "x+": "free", "y-": "fixed", "y+": "free"}),
-                 [AL], bs, Run(t_end=t_end, output_interval=output_interval, history_interval=5), contact=Contact(friction=mu)).validate()
 
 
 def run_scene(scene, outdir):

@@ -26,7 +26,7 @@ import sys
 import time
 
 
-VERIFY_STUDIES = ("shock", "vibration", "insertion", "laminate", "cells")   # = verify.STUDIES (not imported: PETSc starts later)
+VERIFY_STUDIES = ("shock", "vibration", "insertion", "laminate", "cells", "contact")   # = verify.STUDIES (not imported: PETSc starts later)
 
 
 def _rank():

@@ -574,7 +574,7 @@ def taylor_report(rows):
 
 
 # --------------------------------------------------------------------- main --
-STUDIES = ("shock", "vibration", "insertion", "laminate", "cells")
+STUDIES = ("shock", "vibration", "insertion", "laminate", "cells", "contact")
 
 
 def _write_csv(path, rows):
@@ -649,6 +649,13 @@ def main(outdir="out/verify", levels=4, shapes=("linear", "gimp", "bspline2"), t
                 pair, fit = observed_orders([r["error"] for r in rs], [1.0 / r["size"] for r in rs])
                 print(f"observed order {prob}: " + ", ".join(f"{x:.2f}" for x in pair) + f"; fit {fit:.2f}")
         made += ["verify_cells.csv", "verify_cells.png", "cells_state.png"]
+    if "contact" in only:
+        from . import verify_contact
+        rows = verify_contact.contact_study(print0)
+        if rank == 0:
+            _write_csv(os.path.join(outdir, "verify_contact.csv"), rows)
+            verify_contact.plot_contact(rows, os.path.join(outdir, "verify_contact.png"))
+        made += ["verify_contact.csv", "verify_contact.png"]
     if taylor_cells:
         rows = taylor_study(taylor_cells, print0)
         if rank == 0:

@@ -1,0 +1,118 @@
+"""Contact between marker bodies (docs/contact.md): error against run time for
+`plyshock verify --only contact`, into verify_contact.csv and
+verify_contact.png.  The scenes are also those of tests/test_contact.py.
+
+  trap     the momentum trap: a copper flyer of thickness d at V onto two
+           touching copper plates of thickness d each, in uniaxial strain; the
+           1D answer after the waves have passed is rear plate V, front plate
+           and flyer at rest; error (|v_rear - V| + |v_front| + |v_flyer|) / V.
+  coulomb  an aluminium block thrown at (20, -10) m/s onto a plate with
+           friction mu = 0.3: while it slips its tangential momentum changes by
+           mu times the normal impulse; error |(-dv_x / dv_y) - mu| / mu.
+SI units.
+"""
+import os
+import shutil
+import tempfile
+import time
+
+import numpy as np
+
+from .scene import Body, Box, Contact, Grid, Material, Run, Scene
+
+CU = Material("cu", density=8930.0, eos={"type": "mie-gruneisen", "c0": 3940.0, "s": 1.489, "gamma0": 2.02})
+AL = Material("al", density=2700.0, elastic={"type": "isotropic", "E": 70e9, "nu": 0.33})
+V = 100.0          # the trap's flyer speed (m/s)
+MU = 0.3           # the sliding block's friction coefficient
+
+
+def trap(contact, t_end=1.5e-6, h=50e-6, d=1e-3):
+    """A copper flyer of thickness d at V onto two touching copper plates of
+    thickness d each, in uniaxial strain (a strip between symmetry faces)."""
+    W, L = 4 * h, 8e-3
+    bs = [Body("flyer", box=Box([1e-3, 0], [1e-3 + d, W]), material="cu", velocity=[V, 0.0], subdivision=2),
+          Body("front", box=Box([1e-3 + d, 0], [1e-3 + 2 * d, W]), material="cu", subdivision=2),
+          Body("rear", box=Box([1e-3 + 2 * d, 0], [1e-3 + 3 * d, W]), material="cu", subdivision=2)]
+    return Scene(2, Grid([0.0, 0.0], [L, W], [round(L / h), 4], {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}),
+                 [CU], bs, Run(t_end=t_end, output_interval=0.0), contact=contact).validate()
+
+
+def slide(mu, t_end=4e-6, h=0.25e-3, output_interval=0.0):
+    """An aluminium block (4 x 2 mm) thrown at (20, -10) m/s onto an aluminium
+    plate (20 x 2 mm) held on its lower face: it slides along the plate while
+    it bounces off it."""
+    bs = [Body("plate", box=Box([0.0, 0.0], [20e-3, 2e-3]), material="al", subdivision=2),
+          Body("block", box=Box([4e-3, 2e-3], [8e-3, 4e-3]), material="al", velocity=[20.0, -10.0], subdivision=2)]
+    return Scene(2, Grid([0.0, 0.0], [20e-3, 6e-3], [round(20e-3 / h), round(6e-3 / h)],
+                         {"x-": "free", "x+": "free", "y-": "fixed", "y+": "free"}),
+                 [AL], bs, Run(t_end=t_end, output_interval=output_interval, history_interval=5), contact=Contact(friction=mu)).validate()
+
+
+def bodies_csv(outdir):
+    """{body name: its rows of bodies.csv}"""
+    B = np.genfromtxt(os.path.join(outdir, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
+    return {n: B[B["body"] == n] for n in set(B["body"])}
+
+
+def _run(scene):
+    """Run a scene into a scratch directory on every rank: (bodies, wall s, steps)."""
+    from mpi4py import MPI
+    from . import core
+    comm = MPI.COMM_WORLD
+    tmp = comm.bcast(tempfile.mkdtemp(prefix="plyshock-contact-") if comm.rank == 0 else None)
+    comm.Barrier()
+    t = time.perf_counter()
+    m = core.initialize(scene)
+    core.run(m, tmp, scene.to_yaml())
+    comm.Barrier()
+    wall = time.perf_counter() - t
+    B = bodies_csv(tmp)
+    H = np.genfromtxt(os.path.join(tmp, "history.csv"), delimiter=",", names=True)
+    comm.Barrier()
+    if comm.rank == 0:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return B, wall, int(H["step"][-1])
+
+
+def contact_study(print0, quick=False):
+    """The trap and the sliding block at several resolutions: rows for verify_contact.csv."""
+    rows = []
+    _run(trap(None, h=100e-6))          # a warm-up run, not timed (the first run pays for the solver's setup)
+    for h in ((100e-6, 50e-6) if quick else (100e-6, 50e-6, 25e-6)):
+        B, wall, steps = _run(trap(None, h=h))
+        v = {n: B[n]["vx"][-1] for n in B}
+        e = (abs(v["rear"] - V) + abs(v["front"]) + abs(v["flyer"])) / V
+        rows.append(dict(problem="trap", size=h, steps=steps, wall_s=wall, error=e))
+        print0(f"trap     h {h * 1e6:5.1f} um  steps {steps:5d}  wall {wall:6.2f} s  rear {v['rear']:.2f}, front {v['front']:.2f}, "
+               f"flyer {v['flyer']:.2f} m/s  error {e:.3e}")
+    for h in ((0.5e-3, 0.25e-3) if quick else (0.5e-3, 0.25e-3, 0.125e-3)):
+        B, wall, steps = _run(slide(MU, h=h))
+        b = B["block"]
+        dvx, dvy = b["vx"][-1] - b["vx"][0], b["vy"][-1] - b["vy"][0]
+        e = abs(-dvx / dvy - MU) / MU
+        rows.append(dict(problem="coulomb", size=h, steps=steps, wall_s=wall, error=e))
+        print0(f"coulomb  h {h * 1e3:5.3f} mm  steps {steps:5d}  wall {wall:6.2f} s  -dv_x/dv_y {-dvx / dvy:.4f} (mu {MU})  error {e:.3e}")
+    return rows
+
+
+def plot_contact(rows, png):
+    """verify_contact.png: error against wall time for the trap and the block."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4.2))
+    titles = {"trap": "momentum trap: (|v_rear - V| + |v_front| + |v_flyer|) / V",
+              "coulomb": f"sliding block: |(-dv_t / dv_n) - mu| / mu, mu = {MU}"}
+    for a, prob in zip(ax, ("trap", "coulomb")):
+        rs = [r for r in rows if r["problem"] == prob]
+        a.loglog([r["wall_s"] for r in rs], [max(r["error"], 1e-16) for r in rs], "o-")
+        for r in rs:
+            lab = f"{r['size'] * 1e6:g} um" if prob == "trap" else f"{r['size'] * 1e3:g} mm"
+            a.annotate(lab, (r["wall_s"], max(r["error"], 1e-16)), textcoords="offset points", xytext=(4, 4), fontsize=8)
+        a.set_title(titles[prob], fontsize=9)
+        a.set_xlabel("wall time (s, 2 ranks)")
+        a.grid(True, which="both", alpha=0.3)
+    ax[0].set_ylabel("error")
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
