@@ -8,10 +8,7 @@ figure is the cost the Eulerian host adds to a marker run of this scene.
     mpiexec -n 2 .venv/bin/python scripts/bench_blast.py
 """
 import os
-import shutil
 import sys
-import tempfile
-import time
 
 import petsc4py
 
@@ -22,33 +19,25 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import blast_panel_2d  # noqa: E402
 
 from plyshock import core  # noqa: E402
+from plyshock.verify import run_scratch  # noqa: E402
 
 comm = PETSc.COMM_WORLD
-mpi = comm.tompi4py()
 
 
-def timed(scene, outdir):
-    """Whole run (insertion, steps, outputs) on every rank: its wall seconds."""
+def timed(scene):
+    """Whole run (insertion, steps, outputs into a scratch directory) on every rank: its wall seconds."""
     core.run_options(scene)
-    mpi.Barrier()
-    t = time.perf_counter()
-    m = core.initialize(scene)
-    S = core.make_solver(m)
-    core.run(m, outdir, scene.to_yaml(), S)
-    mpi.Barrier()
-    return time.perf_counter() - t
+    return run_scratch(scene, lambda d: None)[1]
 
 
 blast = blast_panel_2d.setup().validate()
 alone = blast_panel_2d.setup().validate()
 alone.bodies = [b for b in alone.bodies if b.representation != "cells"]
 alone = alone.validate()
-tmp = mpi.bcast(tempfile.mkdtemp(prefix="plyshock-bench-") if comm.getRank() == 0 else None)
-tb = timed(blast, os.path.join(tmp, "blast"))
-tv = timed(alone, os.path.join(tmp, "alone"))
+tb = timed(blast)
+tv = timed(alone)
 if comm.getRank() == 0:
     print(f"blast on a panel (2D, 75 us, cells + markers), {comm.getSize()} rank(s): {tb:.2f} s; "
           f"the panel alone in vacuum (markers only): {tv:.2f} s; the cells cost {tb / tv:.2f}x the markers-only run")
     print(f"BENCH blast_seconds_{comm.getSize()} {tb:.6e}")
     print(f"BENCH blast_vacuum_seconds_{comm.getSize()} {tv:.6e}")
-    shutil.rmtree(tmp, ignore_errors=True)

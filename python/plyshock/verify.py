@@ -140,8 +140,6 @@ def taylor(cell=0.5e-3, shape="gimp", subdivision=2, fbar=True, t_end=80e-6, tra
     measured 16.21 mm and 13.56 mm (Johnson & Cook 1983).  fbar: cell-averaged
     volumetric rate against locking (under musl with a 5% PIC share, which keeps
     its zero-energy modes from growing under FLIP; apic needs bspline2)."""
-    from petsc4py import PETSc
-    from . import core
     from .scene import Cylinder
     T = TAYLOR
     side = 9e-3
@@ -152,25 +150,7 @@ def taylor(cell=0.5e-3, shape="gimp", subdivision=2, fbar=True, t_end=80e-6, tra
                         velocity=[0, 0, -T["v"]], subdivision=subdivision)],
                   Run(t_end=t_end, shape=shape, transfer=transfer, history_interval=100000, fbar=fbar,
                       pic_fraction=0.05 if fbar and transfer == "musl" else 0.0)).validate()
-    comm = PETSc.COMM_WORLD.tompi4py()
-    w0 = time.perf_counter()
-    m = core.initialize(scene)
-    S = core.make_solver(m)
-    ke0 = S.totals()["kinetic"]
-    while S.time < t_end * (1 - 1e-12):
-        S.step()
-    wall = time.perf_counter() - w0
-    f = core.local_fields(m, ["x", "volume"])
-    x, a = f["x"], 0.5 * np.cbrt(f["volume"][:, 0])        # marker half size
-    top = comm.allreduce(float((x[:, 2] + a).max()) if len(x) else 0.0, op=max_op())
-    # the bar may rebound off the frictionless wall (z = 0): its length is top - bottom
-    bottom = max(0.0, -comm.allreduce(float(-(x[:, 2] - a).min()) if len(x) else -1e30, op=max_op()))
-    top -= bottom
-    foot = x[:, 2] < bottom + cell
-    r = comm.allreduce(float((np.hypot(x[foot, 0], x[foot, 1]) + a[foot]).max()) if foot.any() else 0.0, op=max_op())
-    return dict(length=top, diameter=2 * r, err_length=top / T["L"] - 1, err_diameter=2 * r / T["D"] - 1, wall_s=wall,
-                kinetic_left=S.totals()["kinetic"] / ke0,
-                markers=m.stats["markers"], steps=S.step_count)
+    return _bar_run(scene, t_end, cell, axisymmetric=False)
 
 
 def taylor_axi(cell=0.5e-3, shape="bspline2", subdivision=2, fbar=True, t_end=80e-6, material="OFHC-copper", pic_fraction=0.01):
@@ -183,8 +163,6 @@ def taylor_axi(cell=0.5e-3, shape="bspline2", subdivision=2, fbar=True, t_end=80
     against 13.78 mm at 0.5 mm).  Final length and foot diameter after t_end,
     measured as in taylor() with the marker's half size from its section
     area V / (2 pi r)."""
-    from petsc4py import PETSc
-    from . import core
     T = TAYLOR
     side = 9e-3
     scene = Scene(2, Grid([0, 0], [side, 26e-3], [round(side / cell), round(26e-3 / cell)], {"x-": "symmetry", "y-": "symmetry"}),
@@ -193,6 +171,18 @@ def taylor_axi(cell=0.5e-3, shape="bspline2", subdivision=2, fbar=True, t_end=80
                         subdivision=subdivision)],
                   Run(t_end=t_end, shape=shape, transfer="musl", history_interval=100000, fbar=fbar,
                       pic_fraction=pic_fraction), geometry="axisymmetric").validate()
+    return _bar_run(scene, t_end, cell, axisymmetric=True)
+
+
+def _bar_run(scene, t_end, cell, axisymmetric):
+    """Run a Taylor-bar scene to t_end and measure it: final length (top less
+    the bottom, which may rebound off the frictionless wall) and foot diameter
+    (the widest marker within a cell of the bottom), each marker with its half
+    size a (3D: from its volume; axisymmetric: from its section area
+    V / (2 pi r)); errors against the 1983 test, wall time, kinetic energy left."""
+    from petsc4py import PETSc
+    from . import core
+    T = TAYLOR
     comm = PETSc.COMM_WORLD.tompi4py()
     w0 = time.perf_counter()
     m = core.initialize(scene)
@@ -202,14 +192,17 @@ def taylor_axi(cell=0.5e-3, shape="bspline2", subdivision=2, fbar=True, t_end=80
         S.step()
     wall = time.perf_counter() - w0
     f = core.local_fields(m, ["x", "volume"])
-    x = f["x"]
-    a = 0.5 * np.sqrt(f["volume"][:, 0] / (2 * np.pi * np.maximum(x[:, 0], 1e-30)))   # half size of the section
-    top = comm.allreduce(float((x[:, 1] + a).max()) if len(x) else 0.0, op=max_op())
-    bottom = max(0.0, -comm.allreduce(float(-(x[:, 1] - a).min()) if len(x) else -1e30, op=max_op()))
+    x, V = f["x"], f["volume"][:, 0]
+    if axisymmetric:
+        a, z, r = 0.5 * np.sqrt(V / (2 * np.pi * np.maximum(x[:, 0], 1e-30))), x[:, 1], x[:, 0]
+    else:
+        a, z, r = 0.5 * np.cbrt(V), x[:, 2], np.hypot(x[:, 0], x[:, 1])
+    top = comm.allreduce(float((z + a).max()) if len(x) else 0.0, op=max_op())
+    bottom = max(0.0, -comm.allreduce(float(-(z - a).min()) if len(x) else -1e30, op=max_op()))
     top -= bottom
-    foot = x[:, 1] < bottom + cell
-    r = comm.allreduce(float((x[foot, 0] + a[foot]).max()) if foot.any() else 0.0, op=max_op())
-    return dict(length=top, diameter=2 * r, err_length=top / T["L"] - 1, err_diameter=2 * r / T["D"] - 1, wall_s=wall,
+    foot = z < bottom + cell
+    rf = comm.allreduce(float((r[foot] + a[foot]).max()) if foot.any() else 0.0, op=max_op())
+    return dict(length=top, diameter=2 * rf, err_length=top / T["L"] - 1, err_diameter=2 * rf / T["D"] - 1, wall_s=wall,
                 kinetic_left=S.totals()["kinetic"] / ke0, markers=m.stats["markers"], steps=S.step_count)
 
 
@@ -434,17 +427,19 @@ def laminate_wave_scene(h, insertion, n):
                  gauges=[{"name": "behind", "point": [LW["gauge"], W / 2]}], contact=BONDED).validate()
 
 
-def run_laminate_wave(h, insertion, n, workdir):
-    """(gauge time, vx, x, wall s, markers) of one run."""
+def run_scratch(scene, read, workdir=None):
+    """Run scene to its t_end with its outputs into a scratch directory (under
+    workdir, or the system's), timed on every rank between barriers; read(dir)
+    on rank 0 after the run, its result broadcast; the directory removed.
+    Returns (that result, wall s, the markers' state m, the solver S)."""
+    import shutil
     import tempfile
     from petsc4py import PETSc
     from . import core
     comm = PETSc.COMM_WORLD.tompi4py()
-    scene = laminate_wave_scene(h, insertion, n)
-    if comm.rank == 0:
+    if comm.rank == 0 and workdir:
         os.makedirs(workdir, exist_ok=True)
-    d = tempfile.mkdtemp(dir=workdir) if comm.rank == 0 else None
-    d = comm.bcast(d, root=0)
+    d = comm.bcast(tempfile.mkdtemp(dir=workdir, prefix="plyshock-") if comm.rank == 0 else None, root=0)
     comm.Barrier()
     w0 = time.perf_counter()
     m = core.initialize(scene)
@@ -452,13 +447,19 @@ def run_laminate_wave(h, insertion, n, workdir):
     core.run(m, d, scene.to_yaml(), S)
     comm.Barrier()
     wall = time.perf_counter() - w0
-    g = None
+    res = None
     if comm.rank == 0:
-        import shutil
-        g = np.genfromtxt(os.path.join(d, "gauges.csv"), delimiter=",", names=True)
-        g = (g["time"], g["vx"], g["x"])
+        res = read(d)
         shutil.rmtree(d, ignore_errors=True)
-    t, v, x = comm.bcast(g, root=0)
+    return comm.bcast(res, root=0), wall, m, S
+
+
+def run_laminate_wave(h, insertion, n, workdir):
+    """(gauge time, vx, x, wall s, markers) of one run."""
+    def gauge(d):
+        g = np.genfromtxt(os.path.join(d, "gauges.csv"), delimiter=",", names=True)
+        return g["time"], g["vx"], g["x"]
+    (t, v, x), wall, m, _ = run_scratch(laminate_wave_scene(h, insertion, n), gauge, workdir)
     return t, v, x, wall, m.stats["markers"]
 
 

@@ -12,9 +12,6 @@ verify_contact.png.  The scenes are also those of tests/test_contact.py.
 SI units.
 """
 import os
-import shutil
-import tempfile
-import time
 
 import numpy as np
 
@@ -55,23 +52,10 @@ def bodies_csv(outdir):
 
 
 def _run(scene):
-    """Run a scene into a scratch directory on every rank: (bodies, wall s, steps)."""
-    from mpi4py import MPI
-    from . import core
-    comm = MPI.COMM_WORLD
-    tmp = comm.bcast(tempfile.mkdtemp(prefix="plyshock-contact-") if comm.rank == 0 else None)
-    comm.Barrier()
-    t = time.perf_counter()
-    m = core.initialize(scene)
-    core.run(m, tmp, scene.to_yaml())
-    comm.Barrier()
-    wall = time.perf_counter() - t
-    B = bodies_csv(tmp)
-    H = np.genfromtxt(os.path.join(tmp, "history.csv"), delimiter=",", names=True)
-    comm.Barrier()
-    if comm.rank == 0:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return B, wall, int(H["step"][-1])
+    """Run a scene (plyshock.verify.run_scratch): (its bodies.csv rows by body, wall s, steps)."""
+    from .verify import run_scratch
+    B, wall, _, S = run_scratch(scene, bodies_csv)
+    return B, wall, S.step_count
 
 
 def contact_study(print0, quick=False):
