@@ -36,7 +36,7 @@ PetscErrorCode PSFieldsGet(PSSolver *S, PSFields *f)
   if (S->scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
   if (S->scene->ndamage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
   if (S->scene->need_affine) PetscCall(DMSwarmGetField(sw, PS_FIELD_AFFINE, NULL, NULL, (void **)&f->C));
-  if (S->scene->anisotropic || S->contact) PetscCall(DMSwarmGetField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body)); /* orthotropic kernels, contact fields */
+  PetscCall(DMSwarmGetField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body)); /* every scene registers it: orthotropic kernels, contact fields, the dt guard */
   if (S->scene->anisotropic) {
     PetscCall(DMSwarmGetField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&f->axes));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
@@ -52,7 +52,7 @@ PetscErrorCode PSFieldsRestore(PSSolver *S, PSFields *f)
   PetscFunctionBeginUser;
   if (f->C) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_AFFINE, NULL, NULL, (void **)&f->C));
   if (f->ply) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply));
-  if (f->body) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body));
+  PetscCall(DMSwarmRestoreField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body));
   if (f->smat) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
   if (f->axes) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&f->axes));
   if (f->D) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));

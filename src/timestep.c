@@ -110,9 +110,7 @@ static PetscErrorCode DtFloorError(PSSolver *S, PetscReal dt)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (S->cells) PetscCall(DtFloorCellError(S, dt)); /* the cells set the step: name the cell */
   PetscCall(PSFieldsGet(S, &f));
-  /* the body field: PSFieldsGet holds it already in scenes with plies */
-  if (f.body) body = f.body;
-  else PetscCall(DMSwarmGetField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
+  body = f.body;
   for (p = 0; p < f.n; p++) {
     PetscReal v;
     PetscCall(MarkerSpeed(S, &f, p, s));
@@ -137,7 +135,6 @@ static PetscErrorCode DtFloorError(PSSolver *S, PetscReal dt)
     for (d = 0; d < S->dim; d++) info[8 + d] = f.x[best * S->dim + d];
     info[11] = 1.0;
   }
-  if (!f.body) PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_BODY, NULL, NULL, (void **)&body));
   PetscCall(PSFieldsRestore(S, &f));
   PetscCallMPI(MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm));
   PetscCallMPI(MPI_Bcast(info, 12, MPIU_REAL, glob.r, comm));
