@@ -399,6 +399,7 @@ static PetscErrorCode Checkpoint(PSSolver *S, const char filename[])
     grp = H5Gcreate2(w.file, "/contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     H5CHK(grp, "/contact");
     PetscCall(WriteTable(&w, grp, "contact", "ranks", PETSC_REAL, &S->contact->friction_work, 1, 1, w.rank, w.size));
+    PetscCall(WriteTable(&w, grp, "contact", "interface", PETSC_REAL, &S->contact->interface_energy, 1, 1, w.rank, w.size));
     H5Gclose(grp);
   }
   PetscCall(WriteAttr(w.file, "complete", H5T_NATIVE_INT, 1, &complete)); /* last: everything above is in */
@@ -934,6 +935,14 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
       if (R == size) S->contact->friction_work = books[rank];
       else if (!rank)
         for (r = 0; r < R; r++) S->contact->friction_work += books[r];
+      S->contact->interface_energy = 0.0;
+      if (H5Lexists(grp, "interface", H5P_DEFAULT) > 0) {
+        PetscCheck(Rows(grp, "interface") == R, PETSC_COMM_SELF, PETSC_ERR_FILE_UNEXPECTED, "checkpoint: /contact/interface has %lld rows, /contact/ranks %lld", (long long)Rows(grp, "interface"), (long long)R);
+        PetscCall(ReadAll(grp, "interface", H5T_NATIVE_DOUBLE, books));
+        if (R == size) S->contact->interface_energy = books[rank];
+        else if (!rank)
+          for (r = 0; r < R; r++) S->contact->interface_energy += books[r];
+      }
       PetscCall(PetscFree(books));
       H5Gclose(grp);
     }

@@ -7,9 +7,17 @@
   body, or `contact: {type: bonded}`) has no PSContact: the step runs the
   single-field MUSL kernels unchanged.
 
-  Node layout of the field array g, per field k (fs = 1 + 3 dim reals):
-      P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip]
-      grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k]   (shared nodes)
+  A laminate with `interface: cohesive` puts each ply in a field of its own
+  (split[b]: ply j of body b is field field[b] + j), and the pair of two
+  adjacent plies' fields carries a cohesive law (coh, cohp).
+
+  Node layout of the field array g, per field k (fs = 3 + 3 dim reals):
+      P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip, V_k = sum_p N_ip V_p, (mD)_k = sum_p N_ip m_p D_p]
+      grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k, alpha_k, dD_i]   (shared nodes)
+  (D_p: the marker's interface damage, cohesive scenes only; alpha_k the
+  fraction of the way to the centre of mass the cohesive law moved field k,
+  which the re-projection repeats; dD_i the damage increment of the node's
+  cohesive pair this step, -1 for fields not in one)
   and of the re-projection array h, per field k (dim reals):
       [(mv)_k] -> [v_k] (shared nodes).
   A node is shared when two or more fields carry more than mass_min there; only
@@ -25,14 +33,19 @@ typedef struct PSContact_ {
   PetscInt   nfield;        /* velocity fields, >= 2 */
   PetscInt   nbody;         /* bodies of the scene */
   PetscInt  *field;         /* field of each body; -1: a body in cells (not a marker body) */
+  PetscInt  *split;         /* per body: 1 = ply j of it is field field[b] + j (cohesive ply interfaces) */
   PetscReal *mu;            /* nfield x nfield Coulomb friction coefficients (-) */
-  PetscInt   fs;            /* reals per field and node in g: 1 + 3 dim */
+  PetscInt  *coh;           /* nfield x nfield: the cohesive law between two fields (adjacent plies), -1 none */
+  PetscInt   ncoh;          /* cohesive laws */
+  PetscReal *cohp;          /* ncoh x 4: normal strength N (Pa), shear strength S (Pa), G_I, G_II (J/m^2) */
+  PetscInt   fs;            /* reals per field and node in g: 3 + 3 dim */
   PetscInt   gdof, hdof;    /* reals per node: nfield fs, nfield dim */
   PetscInt   nl;            /* nodes of a rank's ghosted local array */
   PetscReal *g, *h;         /* ghosted local arrays (layouts above) */
   PetscSF    sfg, sfh;      /* their ghost exchange (halo.c) */
   PetscInt   zbox[3][2];    /* nodes the last step wrote: g and h are zero elsewhere */
   PetscReal  friction_work; /* this rank's kinetic energy removed by the tangential correction, cumulative (J) */
+  PetscReal  interface_energy; /* this rank's work of the cohesive interfaces' tractions on the opening, cumulative (J) */
 } PSContact;
 
 PETSC_INTERN PetscErrorCode PSContactDestroy(PSContact **);

@@ -36,12 +36,13 @@ PetscErrorCode PSFieldsGet(PSSolver *S, PSFields *f)
   if (S->scene->need_temperature) PetscCall(DMSwarmGetField(sw, PS_FIELD_TEMP, NULL, NULL, (void **)&f->T));
   if (S->scene->ndamage) PetscCall(DMSwarmGetField(sw, PS_FIELD_DAMAGE, NULL, NULL, (void **)&f->D));
   if (S->scene->need_affine) PetscCall(DMSwarmGetField(sw, PS_FIELD_AFFINE, NULL, NULL, (void **)&f->C));
+  if (S->scene->need_interface) PetscCall(DMSwarmGetField(sw, PS_FIELD_IDAMAGE, NULL, NULL, (void **)&f->Di));
   PetscCall(DMSwarmGetField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body)); /* every scene registers it: orthotropic kernels, contact fields, the dt guard */
   if (S->scene->anisotropic) {
     PetscCall(DMSwarmGetField(sw, PS_FIELD_AXES, NULL, NULL, (void **)&f->axes));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));
-    if (S->has_ply) PetscCall(DMSwarmGetField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply));
   }
+  if (S->has_ply) PetscCall(DMSwarmGetField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply)); /* ply fields of cohesive interfaces, orthotropic kernels */
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -51,6 +52,7 @@ PetscErrorCode PSFieldsRestore(PSSolver *S, PSFields *f)
 
   PetscFunctionBeginUser;
   if (f->C) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_AFFINE, NULL, NULL, (void **)&f->C));
+  if (f->Di) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_IDAMAGE, NULL, NULL, (void **)&f->Di));
   if (f->ply) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_PLY, NULL, NULL, (void **)&f->ply));
   PetscCall(DMSwarmRestoreField(sw, PS_FIELD_BODY, NULL, NULL, (void **)&f->body));
   if (f->smat) PetscCall(DMSwarmRestoreField(sw, PS_FIELD_SMAT, NULL, NULL, (void **)&f->smat));

@@ -13,7 +13,9 @@
     /markers/stress (N x 3 x 3 Cauchy, Pa, tension positive), /markers/pressure (Pa),
     /markers/energy (J/kg), and when a material uses them /markers/plastic_strain,
     /markers/temperature (K), /markers/damage (N: Johnson-Cook; N x 4 with ply
-    failure: d_ft, d_fc, d_mt, d_mc); root attribute time (s).  axis1..3 are the
+    failure: d_ft, d_fc, d_mt, d_mc), /markers/interface_damage (N; laminates with
+    interface: cohesive: damage of the ply interface next to the marker, open
+    at 1); root attribute time (s).  axis1..3 are the
     current material axes (they turn with the material).
     attributes: /markers@body_names, /markers@material_names; root: deck,
     version, units, and whatever else the caller passes (petsc options, ranks).
@@ -191,10 +193,11 @@ PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[]
       {PS_FIELD_ENERGY, "energy"},
       {PS_FIELD_EPS_P, "plastic_strain"},
       {PS_FIELD_TEMP, "temperature"},
-      {PS_FIELD_DAMAGE, "damage"}
+      {PS_FIELD_DAMAGE, "damage"},
+      {PS_FIELD_IDAMAGE, "interface_damage"}
     };
-    const PetscBool have[] = {PETSC_TRUE, PETSC_TRUE, scene->need_plastic, scene->need_temperature, scene->ndamage > 0};
-    const PetscInt  bs[]   = {0, 0, 0, 0, scene->ndamage > 1 ? scene->ndamage : 0}; /* damage: N, or N x 4 for plies */
+    const PetscBool have[] = {PETSC_TRUE, PETSC_TRUE, scene->need_plastic, scene->need_temperature, scene->ndamage > 0, scene->need_interface};
+    const PetscInt  bs[]   = {0, 0, 0, 0, scene->ndamage > 1 ? scene->ndamage : 0, 0}; /* damage: N, or N x 4 for plies */
     PetscCall(PetscMalloc1(9 * PetscMax(n, 1), &full));
     PetscCall(DMSwarmGetField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
     for (i = 0; i < n; i++) {
@@ -215,7 +218,7 @@ PetscErrorCode PSWriteMarkers(const PSScene *scene, DM sw, const char filename[]
     PetscCall(DMSwarmRestoreField(sw, PS_FIELD_STRESS, NULL, NULL, (void **)&sg));
     PetscCall(WriteSlabN(grp, "stress", H5T_NATIVE_DOUBLE, full, n, 3, 3, off, N));
     PetscCall(PetscFree(full));
-    for (a = 0; a < 5; a++) {
+    for (a = 0; a < 6; a++) {
       if (!have[a]) continue;
       PetscCall(DMSwarmGetField(sw, scal[a][0], NULL, NULL, (void **)&fld));
       PetscCall(WriteSlab(grp, scal[a][1], H5T_NATIVE_DOUBLE, fld, n, bs[a], off, N));

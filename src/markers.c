@@ -36,6 +36,7 @@ static PetscBool FieldNeeded(const PSScene *scene, const char *name)
   if (!strcmp(name, PS_FIELD_DAMAGE)) return scene->ndamage > 0;
   if (!strcmp(name, PS_FIELD_SMAT)) return scene->anisotropic;
   if (!strcmp(name, PS_FIELD_AFFINE)) return scene->need_affine;
+  if (!strcmp(name, PS_FIELD_IDAMAGE)) return scene->need_interface;
   if (!strcmp(name, PS_FIELD_PLY)) {
     for (b = 0; b < scene->nbody; b++)
       if (scene->bodies[b].kind == PS_BODY_LAMINATE) return PETSC_TRUE;
@@ -66,6 +67,7 @@ static const PSField PSFields[] = {
   {PS_FIELD_DAMAGE,   -4, PETSC_REAL },
   {PS_FIELD_SMAT,     6,  PETSC_REAL },
   {PS_FIELD_AFFINE,   -2, PETSC_REAL },
+  {PS_FIELD_IDAMAGE,  1,  PETSC_REAL },
 };
 
 /* Register the scene's fields on a fresh swarm. */

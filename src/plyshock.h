@@ -89,6 +89,7 @@ typedef struct {
   PetscInt  *cellmat;         /* their material ids, deck order */
   PetscInt   nbody;
   PSBody    *bodies;
+  PetscBool  need_interface;  /* some laminate has cohesive ply interfaces: markers carry interface damage */
   PetscBool  axisymmetric;    /* 2D geometry: axisymmetric (x = r >= 0, y = z; masses and volumes of the full
                                  revolution) instead of plane strain */
 } PSScene;
@@ -122,6 +123,8 @@ typedef struct {
 #define PS_FIELD_EPS_P    "plastic_strain" /* equivalent plastic strain (-) */
 #define PS_FIELD_TEMP     "temperature"    /* K */
 #define PS_FIELD_DAMAGE   "damage"         /* damage (-), failed at 1: Johnson-Cook D, or a ply's d_ft, d_fc, d_mt, d_mc */
+#define PS_FIELD_IDAMAGE  "interface_damage" /* damage of the cohesive ply interface next to the marker (-), open at 1;
+                                                   laminates with interface: cohesive only (contact.c) */
 #define PS_FIELD_AFFINE   "affine"         /* APIC affine velocity C_p (1/s), dim x dim (row major); run.transfer apic only */
 #define PS_FIELD_SMAT     "stress_material" /* ply stress in material axes less the volumetric part, Voigt 11,22,33,23,13,12 (Pa); anisotropic scenes */
 #define PS_PAD 1 /* grid nodes outside the domain on each side (shape functions reach one cell out) */

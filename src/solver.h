@@ -193,7 +193,7 @@ typedef struct {
   PetscReal  remap_heat;                             /* J: kinetic energy the cells' remap put into internal energy (included in internal) */
   PetscReal  coupling_work;                          /* J: work of fitting cell materials around the markers (included in internal) */
   PetscReal  friction_work;                          /* J: kinetic energy the contact's friction removed (contact.c), cumulative */
-  PetscReal  interface_energy;                       /* J: energy held or dissipated by ply interfaces (0: no cohesive interfaces yet) */
+  PetscReal  interface_energy;                       /* J: work of the cohesive ply interfaces' tractions on their opening (contact.c), cumulative */
   PetscInt64 markers, lost_markers;
 } PSTotals;
 
@@ -253,7 +253,7 @@ PETSC_EXTERN PetscErrorCode PSSolverMigrate(PSSolver *);
 PETSC_EXTERN PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *);
 PETSC_EXTERN PetscErrorCode PSSolverRun(PSSolver *, const char outdir[], PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);
 PETSC_EXTERN PetscErrorCode PSSolverSetGauges(PSSolver *, PetscInt n, const PetscInt64 ids[]);
-PETSC_EXTERN PetscErrorCode PSSolverSetContact(PSSolver *, PetscInt nbody, const PetscInt field[], PetscInt nfield, const PetscReal mu[]);
+PETSC_EXTERN PetscErrorCode PSSolverSetContact(PSSolver *, PetscInt nbody, const PetscInt field[], const PetscInt split[], PetscInt nfield, const PetscReal mu[], const PetscInt coh[], PetscInt ncoh, const PetscReal cohp[]);
 PETSC_EXTERN PetscErrorCode PSSolverCheckpoint(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverRestart(PSSolver *, const char filename[]);
 PETSC_EXTERN PetscErrorCode PSSolverCellsGet(PSSolver *, PetscInt cs[3], PetscInt cm[3], PetscInt layout[3], PetscReal *out);

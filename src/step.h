@@ -43,6 +43,7 @@ typedef struct {
   PetscReal *x, *v, *mass, *vol, *V0, *F, *sig, *sdev, *p, *q, *e, *eps_p, *T, *D;
   PetscReal *axes, *smat; /* anisotropic scenes */
   PetscReal *C;           /* APIC affine velocity (transfer apic) */
+  PetscReal *Di;          /* interface damage (cohesive ply interfaces) */
   PetscInt  *mat, *body, *ply;
   PetscInt64 *id;
   PetscInt   n;

@@ -39,8 +39,11 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
     loc[6] = S->cells->remap_heat;
     loc[7] = S->cells->coupling_work;
   }
-  if (S->contact) loc[8] = S->contact->friction_work;
-  PetscCallMPI(MPI_Allreduce(loc, glob, 9, MPIU_REAL, MPI_SUM, comm));
+  if (S->contact) {
+    loc[8] = S->contact->friction_work;
+    loc[9] = S->contact->interface_energy;
+  }
+  PetscCallMPI(MPI_Allreduce(loc, glob, 10, MPIU_REAL, MPI_SUM, comm));
   PetscCallMPI(MPI_Allreduce(&pmax, &T->max_pressure, 1, MPIU_REAL, MPI_MAX, comm));
   lost[0] = S->lost_local.mass;
   lost[1] = S->lost_local.p[0];
@@ -60,7 +63,7 @@ PetscErrorCode PSSolverTotals(PSSolver *S, PSTotals *T)
   T->remap_heat    = glob[6];
   T->coupling_work = glob[7];
   T->friction_work = glob[8];
-  T->interface_energy = 0.0; /* no cohesive ply interfaces yet */
+  T->interface_energy = glob[9];
   T->lost_mass = glost[0];
   T->lost_p[0] = glost[1];
   T->lost_p[1] = glost[2];

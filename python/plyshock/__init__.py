@@ -6,8 +6,8 @@ Sphere, Cylinder, Body, Contact; decks: plyshock.deck.load().
 """
 from .errors import DeckError
 from .layup import parse_layup
-from .scene import Body, Box, Contact, Cylinder, Frame, Grid, Laminate, Material, Ply, Run, Scene, Sphere
+from .scene import Body, Box, Contact, Cylinder, Frame, Grid, Interface, Laminate, Material, Ply, Run, Scene, Sphere
 
 __version__ = "0.1.0"
-__all__ = ["DeckError", "parse_layup", "Body", "Box", "Contact", "Cylinder", "Frame", "Grid", "Laminate", "Material",
+__all__ = ["DeckError", "parse_layup", "Body", "Box", "Contact", "Cylinder", "Frame", "Grid", "Interface", "Laminate", "Material",
            "Ply", "Run", "Scene", "Sphere", "__version__"]

@@ -66,6 +66,7 @@ cdef extern from "plyshock.h":
         PetscInt ndamage
         PetscReal *T0
         PetscBool need_affine
+        PetscBool need_interface
         PetscInt ncellmat
         PetscInt *cellmat
         PetscInt nbody
@@ -154,7 +155,7 @@ cdef extern from "solver.h":
     PetscErrorCode PSSolverMaxSpeed(PSSolver *)
     PetscErrorCode PSSolverStep(PSSolver *, PetscReal)
     PetscErrorCode PSSolverTotals(PSSolver *, PSTotals *)
-    PetscErrorCode PSSolverSetContact(PSSolver *, PetscInt, const PetscInt *, PetscInt, const PetscReal *)
+    PetscErrorCode PSSolverSetContact(PSSolver *, PetscInt, const PetscInt *, const PetscInt *, PetscInt, const PetscReal *, const PetscInt *, PetscInt, const PetscReal *)
     PetscErrorCode PSSolverCellsGet(PSSolver *, PetscInt *, PetscInt *, PetscInt *, PetscReal *)
     PetscErrorCode PSSolverCellNodesGet(PSSolver *, PetscInt *, PetscInt *, PetscReal *)
     PetscErrorCode PSSolverRun(PSSolver *, const char *, PetscInt, const char **, const char **, const char **, const char **)
@@ -215,6 +216,7 @@ cdef class CScene:
         self.s.need_temperature = PETSC_TRUE if spec.get("need_temperature") else PETSC_FALSE
         self.s.ndamage = spec["ndamage"]
         self.s.need_affine = PETSC_TRUE if spec.get("need_affine") else PETSC_FALSE
+        self.s.need_interface = PETSC_TRUE if spec.get("need_interface") else PETSC_FALSE
         self.s.axisymmetric = PETSC_TRUE if spec.get("axisymmetric") else PETSC_FALSE
         T0 = spec.get("T0", [294.0] * len(dens))
         self.s.T0 = <PetscReal *>calloc(max(1, len(dens)), sizeof(PetscReal))
@@ -502,15 +504,23 @@ cdef class Solver:
                     max_pressure=T.max_pressure, markers=T.markers, lost_markers=T.lost_markers,
                     friction_work=T.friction_work, interface_energy=T.interface_energy)
 
-    def set_contact(self, fields, nfield, mu):
+    def set_contact(self, fields, split, nfield, mu, coh, cohp):
         """Velocity fields of the bodies (field of each body, -1 for bodies in
-        cells; nfield < 2: the single field) and the nfield x nfield friction
-        coefficients."""
-        cdef PetscInt[::1] f = np.ascontiguousarray(fields, dtype=np.int32 if sizeof(PetscInt) == 4 else np.int64)
+        cells; split: a laminate whose ply j is field fields[b] + j; nfield < 2:
+        the single field), the nfield x nfield friction coefficients, the
+        nfield x nfield cohesive law of a pair of fields (-1 none) and the laws'
+        constants (n x 4: N, S in Pa; G_I, G_II in J/m^2)."""
+        itype = np.int32 if sizeof(PetscInt) == 4 else np.int64
+        cdef PetscInt[::1] f = np.ascontiguousarray(fields, dtype=itype)
+        cdef PetscInt[::1] sp = np.ascontiguousarray(split, dtype=itype)
         cdef double[::1] m = np.ascontiguousarray(np.asarray(mu, dtype=float).reshape(-1) if nfield > 0 else np.zeros(1))
+        cdef PetscInt[::1] c = np.ascontiguousarray(np.asarray(coh).reshape(-1) if nfield > 0 else np.full(1, -1), dtype=itype)
+        cp_ = np.asarray(cohp, dtype=float).reshape(-1)
+        ncoh = len(cp_) // 4
+        cdef double[::1] cp = np.ascontiguousarray(cp_ if ncoh else np.zeros(4))
         if len(f) == 0:
             return
-        CHK(PSSolverSetContact(self.S, len(f), &f[0], nfield, &m[0]))
+        CHK(PSSolverSetContact(self.S, len(f), &f[0], &sp[0], nfield, &m[0], &c[0], ncoh, &cp[0]))
 
     def cells(self):
         """This rank's owned cells: {start (3), state (nz, ny, nx, dof) with

@@ -59,7 +59,9 @@ def scene_to_c(scene):
                 ndamage=4 if any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
                 else 1 if any(m.failure is not None for m in scene.materials) else 0,
                 T0=[float((m.strength or {}).get("T_room", 294.0)) for m in scene.materials],
-                need_affine=transfer(scene) == "apic", cellmat=cellmat, axisymmetric=scene.axisymmetric)
+                need_affine=transfer(scene) == "apic", cellmat=cellmat, axisymmetric=scene.axisymmetric,
+                need_interface=any(b.kind == "laminate" and b.representation == "markers" and b.laminate.interface is not None
+                                   and b.laminate.interface.cohesive for b in scene.bodies))
 
 
 def run_options(scene):
@@ -589,9 +591,10 @@ def make_solver(m, restart=None, verified=False):
     faces = ["x-", "x+", "y-", "y+", "z-", "z+"][: 2 * scene.dimension]
     bc = [BC_CODE[scene.grid.boundary[f]] for f in faces] + [0] * (6 - len(faces))
     S = _core.Solver(m.cs, m.da, m.sw, params, mats, bc)
-    field, nfield, mu = contact_fields(scene)
-    if nfield >= 2:
-        S.set_contact(field, nfield, mu)   # each group of bonded bodies its own velocity field (contact.c)
+    lay = scene.contact.layout(scene) if scene.contact is not None else None
+    if lay is not None and lay["nfield"] >= 2:
+        # each group of bonded bodies its own velocity field, each ply of a laminate with cohesive interfaces its own (contact.c)
+        S.set_contact(lay["field"], lay["split"], lay["nfield"], lay["mu"], lay["coh"], lay["cohp"])
     if not restart:
         S.initial_state()      # bodies in cells; markers' initial pressures
     if scene.gauges and not restart:

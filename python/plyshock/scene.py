@@ -308,18 +308,57 @@ class Ply:
     KEYS = ("material", "thickness", "rotations")
 
 
+INTERFACE_TYPES = ("bonded", "cohesive")
+
+
+@dataclass
+class Interface:
+    """A laminate's ply interfaces (docs/contact.md): bonded (one velocity
+    field for the laminate) or cohesive (each ply its own field; between
+    adjacent plies a traction-separation law, rigid until the strength
+    ellipse, then linear softening to G_I / G_II, mixed by the linear power
+    law; open, Coulomb contact with the contact section's friction)."""
+    type: str = "bonded"
+    normal_strength: Optional[float] = None   # Pa, > 0
+    shear_strength: Optional[float] = None    # Pa, > 0
+    G_I: Optional[float] = None               # J/m^2, > 0
+    G_II: Optional[float] = None              # J/m^2, > 0
+
+    KEYS = ("type", "normal_strength", "shear_strength", "G_I", "G_II")
+    CONSTANTS = ("normal_strength", "shear_strength", "G_I", "G_II")
+
+    def validate(self, path):
+        if self.type not in INTERFACE_TYPES:
+            raise DeckError(f"{path}.type", f"unknown interface type {self.type!r}; allowed: {'|'.join(INTERFACE_TYPES)}")
+        for k in self.CONSTANTS:
+            v = getattr(self, k)
+            if self.type == "bonded":
+                if v is not None:
+                    raise DeckError(f"{path}.{k}", "applies to type cohesive only; bonded plies share one velocity field")
+                continue
+            if v is None:
+                raise DeckError(f"{path}.{k}", f"is required for type cohesive ({'Pa' if 'strength' in k else 'J/m^2'}, > 0)")
+            setattr(self, k, number(v, f"{path}.{k}", 0, None, lo_open=True))
+        return self
+
+    @property
+    def cohesive(self):
+        return self.type == "cohesive"
+
+
 @dataclass
 class Laminate:
     frame: Frame
     size: List[float]                # [L1] in 2D, [L1, L2] in 3D (m)
     plies: List[Ply] = field(default_factory=list)
+    interface: Optional[Interface] = None   # between adjacent plies; None: bonded
 
-    KEYS = ("frame", "size", "plies", "layup", "ply_thickness", "ply_material")
+    KEYS = ("frame", "size", "plies", "layup", "ply_thickness", "ply_material", "interface")
 
     @staticmethod
-    def from_layup(frame, size, layup, ply_thickness, ply_material, path="laminate"):
+    def from_layup(frame, size, layup, ply_thickness, ply_material, path="laminate", interface=None):
         angles = _layup.parse_layup(layup, f"{path}.layup")
-        return Laminate(frame, size, [Ply(ply_material, ply_thickness, [[3, a]]) for a in angles])
+        return Laminate(frame, size, [Ply(ply_material, ply_thickness, [[3, a]]) for a in angles], interface)
 
 
 @dataclass
@@ -469,8 +508,19 @@ class Contact:
 
     def fields(self, scene):
         """(field of each body, -1 for bodies in cells; nfield; nfield x nfield
-        friction coefficients).  Fields are the groups of marker bodies joined
-        by bonded pairs (the section's type for pairs not listed)."""
+        friction coefficients): layout() without the cohesive plies' part."""
+        lay = self.layout(scene)
+        return lay["field"], lay["nfield"], lay["mu"]
+
+    def layout(self, scene):
+        """The velocity fields: {field: of each body (-1 for bodies in cells;
+        a laminate with cohesive interfaces: of its first ply), split: 1 for
+        such a laminate (ply j is field field + j), nfield, mu: nfield x nfield
+        friction coefficients, coh: nfield x nfield cohesive law of a pair of
+        fields (-1 none), cohp: the laws (N, S, G_I, G_II)}.  Fields are the
+        groups of marker bodies joined by bonded pairs (the section's type for
+        pairs not listed); a laminate with cohesive interfaces is a group of
+        its own and takes a field per ply."""
         idx = {b.name: i for i, b in enumerate(scene.bodies)}
         marker = [i for i, b in enumerate(scene.bodies) if b.representation == "markers"]
         listed = {}
@@ -493,6 +543,13 @@ class Contact:
             if r not in roots:
                 roots.append(r)
             field[i] = roots.index(r)
+        coh_body = [i for i in marker if scene.bodies[i].kind == "laminate" and scene.bodies[i].laminate.interface is not None
+                    and scene.bodies[i].laminate.interface.cohesive]
+        for i in coh_body:
+            other = [j for j in marker if j != i and field[j] == field[i]]
+            if other:
+                raise DeckError(f"bodies[{i}].laminate.interface", f"a laminate with cohesive ply interfaces cannot be bonded to other bodies "
+                                f"({scene.bodies[other[0]].name!r} through the contact section); list their pairs as type friction")
         nf = len(roots)
         mu = np.full((nf, nf), -1.0)
         # listed pairs first, then the section's friction between groups no listed pair joins
@@ -518,7 +575,31 @@ class Contact:
                                         f"({scene.bodies[x].name!r} and {scene.bodies[y].name!r}); one coefficient per pair of groups")
                     mu[a, b] = mu[b, a] = f
         mu[mu < 0] = 0.0
-        return field, nf, mu
+        # a cohesive laminate: its group's field becomes one per ply, in ply order
+        split = [0] * len(scene.bodies)
+        grp_first = list(range(nf))         # group g -> its first field
+        nply = {field[i]: len(scene.bodies[i].laminate.plies) for i in coh_body}
+        total = 0
+        for g in range(nf):
+            grp_first[g] = total
+            total += nply.get(g, 1)
+        expand = [g for g in range(nf) for _ in range(nply.get(g, 1))]
+        mu2 = mu[np.ix_(expand, expand)] if nf else mu
+        coh = np.full((total, total), -1, dtype=int)
+        cohp = []
+        for i in coh_body:
+            g, itf = field[i], scene.bodies[i].laminate.interface
+            f0 = grp_first[g]
+            for j in range(nply[g]):
+                for k in range(nply[g]):
+                    if j != k:
+                        mu2[f0 + j, f0 + k] = self.friction   # plies once open: Coulomb contact
+            for j in range(nply[g] - 1):
+                coh[f0 + j, f0 + j + 1] = coh[f0 + j + 1, f0 + j] = len(cohp)
+            cohp.append([itf.normal_strength, itf.shear_strength, itf.G_I, itf.G_II])
+            split[i] = 1
+        field = [grp_first[f] if f >= 0 else -1 for f in field]
+        return dict(field=field, split=split, nfield=total, mu=mu2, coh=coh, cohp=np.asarray(cohp, dtype=float).reshape(-1, 4))
 
 
 @dataclass
@@ -602,12 +683,20 @@ class Scene:
         elif not isinstance(self.contact, Contact):
             raise DeckError("contact", "must be a mapping {type: friction|bonded, friction: mu, pairs: [...]}")
         self.contact.validate(bnames)
+        lay = self.contact.layout(self)
+        for i, b in enumerate(self.bodies):
+            if lay["split"][i] and (self.axisymmetric or any(c.representation == "cells" for c in self.bodies)):
+                raise DeckError(f"bodies[{i}].laminate.interface", "cohesive ply interfaces are not supported "
+                                f"{'with geometry: axisymmetric' if self.axisymmetric else 'beside bodies in cells'} yet; set type: bonded")
+            if lay["split"][i] and lay["nfield"] > 16:
+                raise DeckError(f"bodies[{i}].laminate.interface", f"cohesive ply interfaces give each of its {len(b.laminate.plies)} plies a velocity "
+                                f"field: {lay['nfield']} fields in the scene; allowed at most 16")
         if self.contact.fields(self)[1] >= 2 and any(b.representation == "cells" for b in self.bodies):
-            raise DeckError("contact", "friction between marker bodies is not supported with bodies in cells yet "
+            raise DeckError("contact", "friction between marker bodies (or cohesive ply interfaces) is not supported with bodies in cells yet "
                             "(their force reaches the single velocity field only: docs/contact.md); "
                             "set contact: {type: bonded}")
         if self.contact.fields(self)[1] >= 2 and self.axisymmetric:
-            raise DeckError("contact", "friction between marker bodies is not supported with geometry: axisymmetric yet "
+            raise DeckError("contact", "friction between marker bodies (or cohesive ply interfaces) is not supported with geometry: axisymmetric yet "
                             "(the fields' velocity gradient has no hoop term: docs/contact.md); set contact: {type: bonded}")
         if self.gauges is not None:
             if not isinstance(self.gauges, list):
@@ -743,6 +832,10 @@ class Scene:
                 b._ply_mat.append(self._material_id(p.material, f"{pp}.material", names))
                 b._ply_axes.append(_layup.rotate_axes(b._axes, p.rotations, f"{pp}.rotations"))
             b._z = z
+            if lam.interface is not None:          # None: bonded
+                if not isinstance(lam.interface, Interface):
+                    raise DeckError(f"{lp}.interface", "must be a mapping {type: bonded|cohesive, normal_strength, shear_strength, G_I, G_II}")
+                lam.interface.validate(f"{lp}.interface")
         else:
             if b.material is None:
                 raise DeckError(f"{path}.material", f"is required for a {k} body")
@@ -890,6 +983,12 @@ def _laminate_from_dict(d, path):
         if k not in d["frame"]:
             raise DeckError(f"{path}.frame.{k}", "is required (a point)")
     frame = Frame(**d["frame"])
+    interface = None
+    if d.get("interface") is not None:
+        if not isinstance(d["interface"], dict):
+            raise DeckError(f"{path}.interface", "must be a mapping {type: bonded|cohesive, normal_strength, shear_strength, G_I, G_II}")
+        check_keys(d["interface"], Interface.KEYS, f"{path}.interface")
+        interface = Interface(**d["interface"])
     short = [k for k in ("layup", "ply_thickness", "ply_material") if k in d]
     if short and "plies" in d:
         raise DeckError(f"{path}.layup", "give either plies or layup/ply_thickness/ply_material, not both")
@@ -897,7 +996,7 @@ def _laminate_from_dict(d, path):
         for k in ("layup", "ply_thickness", "ply_material"):
             if k not in d:
                 raise DeckError(f"{path}.{k}", "is required with layup")
-        return Laminate.from_layup(frame, d["size"], d["layup"], d["ply_thickness"], d["ply_material"], path)
+        return Laminate.from_layup(frame, d["size"], d["layup"], d["ply_thickness"], d["ply_material"], path, interface)
     if "plies" not in d or not isinstance(d["plies"], list):
         raise DeckError(f"{path}.plies", "is required: a list of {material, thickness, rotations}, or use layup")
     plies = []
@@ -907,4 +1006,4 @@ def _laminate_from_dict(d, path):
             if k not in p:
                 raise DeckError(f"{path}.plies[{j}].{k}", "is required")
         plies.append(Ply(**p))
-    return Laminate(frame, d["size"], plies)
+    return Laminate(frame, d["size"], plies, interface)

@@ -9,18 +9,50 @@ verify_contact.png.  The scenes are also those of tests/test_contact.py.
   coulomb  an aluminium block thrown at (20, -10) m/s onto a plate with
            friction mu = 0.3: while it slips its tangential momentum changes by
            mu times the normal impulse; error |(-dv_x / dv_y) - mu| / mu.
+  mode I   a cohesive ply interface opened in mode I (spall): an aluminium
+           flyer of thickness d at 20 m/s onto a two-ply laminate (plies of
+           thickness d, interface: cohesive with N = 100 MPa < the 167 MPa
+           the reflected pulse pulls with), in uniaxial strain; once the
+           interface is open the traction-separation law has taken G_I per unit
+           of area: error |interface_energy / (G_I A) - 1|.
 SI units.
 """
 import os
 
 import numpy as np
 
-from .scene import Body, Box, Contact, Grid, Material, Run, Scene
+from .scene import Body, Box, Contact, Frame, Grid, Interface, Laminate, Material, Ply, Run, Scene
 
 CU = Material("cu", density=8930.0, eos={"type": "mie-gruneisen", "c0": 3940.0, "s": 1.489, "gamma0": 2.02})
 AL = Material("al", density=2700.0, elastic={"type": "isotropic", "E": 70e9, "nu": 0.33})
 V = 100.0          # the trap's flyer speed (m/s)
 MU = 0.3           # the sliding block's friction coefficient
+SPALL_V = 20.0     # the mode-I flyer's speed (m/s)
+G_I = 50.0         # the mode-I interface's fracture energy (J/m^2)
+
+
+def spall_stress(v=SPALL_V):
+    """The tension (Pa) the reflected pulse pulls the interface with: rho c_L v / 2,
+    c_L the aluminium's longitudinal (uniaxial strain) wave speed."""
+    E, nu, rho = AL.elastic["E"], AL.elastic["nu"], AL.density
+    M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    return rho * (M / rho) ** 0.5 * v / 2
+
+
+def spall(strength, G=G_I, h=25e-6, d=1e-3, v=SPALL_V, t_end=1.2e-6, interface="cohesive", output_interval=0.0):
+    """A flyer (thickness d, at v) onto a laminate of two aluminium plies
+    (thickness d each) stacked along x, in uniaxial strain (a strip of 4 cells
+    between symmetry faces): the compressive pulse reflects at the free face
+    as tension, which meets the ply interface at x = x0 + 2d.  interface:
+    cohesive (normal and shear strength `strength`, G_I = G_II = G) or bonded."""
+    W, x0 = 4 * h, 0.5e-3
+    itf = Interface("cohesive", strength, strength, G, G) if interface == "cohesive" else None
+    lam = Laminate(Frame([x0 + d, 0.0], [x0 + d + 1.0, 0.0], [x0 + d, 1.0]), [W], [Ply("al", d), Ply("al", d)], itf)
+    bs = [Body("flyer", box=Box([x0, 0.0], [x0 + d, W]), material="al", velocity=[v, 0.0], subdivision=2),
+          Body("laminate", laminate=lam, subdivision=2)]
+    L = x0 + 3 * d + 2e-3
+    return Scene(2, Grid([0.0, 0.0], [L, W], [round(L / h), 4], {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}),
+                 [AL], bs, Run(t_end=t_end, output_interval=output_interval, history_interval=1)).validate()
 
 
 def trap(contact, t_end=1.5e-6, h=50e-6, d=1e-3):
