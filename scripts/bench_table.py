@@ -74,6 +74,8 @@ def main():
     # contact (multi-field) against bonded, the oblique plate
     row("oblique plate, contact, 1 rank", "contact_multi_1", "contact_bonded_1", "bonded, same run")
     row("oblique plate, contact, 2 ranks (per core)", "contact_multi_2", "contact_bonded_2", "bonded, same run")
+    row("oblique plate, cohesive plies, 1 rank", "contact_cohesive_1", "contact_bonded_1", "bonded, same run")
+    row("oblique plate, cohesive plies, 2 ranks (per core)", "contact_cohesive_2", "contact_bonded_2", "bonded, same run")
     # the coupled blast example against the same panel without its cell bodies
     for r in (1, 2):
         if f"blast_seconds_{r}" in b and f"blast_vacuum_seconds_{r}" in b:

@@ -125,14 +125,17 @@ static PetscReal CohesiveLaw(const PSSolver *S, const PSContact *C, PetscInt k, 
    softening; G_c from the linear power law G_I/G_Ic + G_II/G_IIc = 1 at the
    mix B = d_s^2/|d|^2 (Reeder, ASTM STP 1110, 1992: the power law with
    exponent 1), T_eff the strength ellipse's radius in the opening's
-   direction. */
-static PetscReal CohesiveDamage(const PSSolver *S, const PSContact *C, PetscInt a, PetscInt b, const PetscReal na[3], PetscReal Dn, PetscReal dt, PetscReal (*v)[3])
+   direction.  *W gets the energy the law takes on the area A meanwhile,
+   the integral of T_eff (1 - D) dlambda = A G_c ((1 - D0)^2 - (1 - D1)^2)
+   (J; >= 0, and A G_c over a whole opening). */
+static PetscReal CohesiveDamage(const PSSolver *S, const PSContact *C, PetscInt a, PetscInt b, const PetscReal na[3], PetscReal Dn, PetscReal A, PetscReal dt, PetscReal (*v)[3], PetscReal *W)
 {
   const PetscInt   dim = S->dim;
   const PetscReal *cp  = &C->cohp[4 * C->coh[a * C->nfield + b]];
-  PetscReal        dd[3], dnn = 0.0, ds2 = 0.0, dl2, B, Gc, c2, s2, Teff;
+  PetscReal        dd[3], dnn = 0.0, ds2 = 0.0, dl2, B, Gc, c2, s2, Teff, D1;
   PetscInt         d;
 
+  *W = 0.0;
   for (d = 0; d < dim; d++) {
     dd[d] = dt * (v[b][d] - v[a][d]);
     dnn += dd[d] * na[d];
@@ -146,15 +149,17 @@ static PetscReal CohesiveDamage(const PSSolver *S, const PSContact *C, PetscInt 
   c2   = dnn * dnn / dl2;
   s2   = ds2 / dl2;
   Teff = 1.0 / PetscSqrtReal(c2 / PetscSqr(cp[0]) + s2 / PetscSqr(cp[1]));
-  return PetscMin(1.0, Dn + PetscSqrtReal(dl2) * Teff / (2.0 * Gc));
+  D1   = PetscMin(1.0, Dn + PetscSqrtReal(dl2) * Teff / (2.0 * Gc));
+  *W   = A * Gc * (PetscSqr(1.0 - Dn) - PetscSqr(1.0 - D1));
+  return D1;
 }
 
 /* The contact law on the fields' velocities v[k] (dim each, with the boundary
    conditions) at one node, with masses m[k], g[k] (layout above), nodal
    volumes V[k] and damage D[k]; returns the kinetic energy the tangential
    (friction) correction removed (J).  Cohesive pairs (CohesiveLaw): in the
-   grid phase (iwork != NULL) *iwork gets the work of their tractions on the
-   opening (J), *Dnew the damage of the pair of the two heaviest fields (-1:
+   grid phase (iwork != NULL) *iwork gets the energy the law took at the node
+   (CohesiveDamage; J), *Dnew the damage of the pair of the two heaviest fields (-1:
    not a cohesive pair), and V[k] is overwritten with the fraction alpha of
    the way to v_cm that field k moved (1: stuck); in the re-projection
    (iwork == NULL) V[k] holds that fraction: a pair that stuck sticks again,
@@ -168,8 +173,8 @@ static PetscReal CohesiveDamage(const PSSolver *S, const PSContact *C, PetscInt 
 static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscInt ip[3], PetscReal dt, const PetscReal *m, const PetscReal (*gm)[3], PetscReal *V, const PetscReal *Dk, PetscReal (*v)[3], PetscReal *iwork, PetscReal *Dnew, PetscInt *pair)
 {
   const PetscInt dim = S->dim, nf = C->nfield;
-  PetscReal      M = 0.0, vcm[3] = {0, 0, 0}, work = 0.0, nk[16][3], v0[3], al[16];
-  PetscInt       k, j, d, a = -1, b = -1;
+  PetscReal      M = 0.0, vcm[3] = {0, 0, 0}, work = 0.0, nk[16][3], al[16], P0[3] = {0, 0, 0}, dP[3] = {0, 0, 0};
+  PetscInt       k, j, d, a = -1, b = -1, nh = 0;
 
   if (iwork) *iwork = 0.0;
   for (k = 0; k < nf; k++) al[k] = V[k];
@@ -177,13 +182,17 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
   for (k = 0; k < nf; k++) {
     if (m[k] <= S->mass_min) continue;
     M += m[k];
+    nh++;
     for (d = 0; d < dim; d++) vcm[d] += m[k] * v[k][d];
     if (a < 0 || m[k] > m[a]) {
       b = a;
       a = k;
     } else if (b < 0 || m[k] > m[b]) b = k;
   }
-  for (d = 0; d < dim; d++) vcm[d] /= M;
+  for (d = 0; d < dim; d++) {
+    P0[d]  = vcm[d];
+    vcm[d] /= M;
+  }
   for (k = 0; k < nf; k++) {
     PetscReal n[3] = {0, 0, 0}, nn = 0.0, dn = 0.0, t[3] = {0, 0, 0}, tt = 0.0, mu, mo = 0.0, e0 = 0.0, e1 = 0.0, gk2 = 0.0, go2 = 0.0;
     PetscInt  other = -1, coh;
@@ -210,7 +219,6 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
     if (coh >= 0) { /* adjacent plies of a laminate with cohesive interfaces */
       const PetscReal Dn = PetscMin(1.0, PetscMax(0.0, (m[k] * Dk[k] + m[other] * Dk[other]) / (m[k] + m[other])));
       PetscReal       alpha;
-      for (d = 0; d < dim; d++) v0[d] = v[k][d];
       if (nn > 0.0) {
         nn = PetscSqrtReal(nn);
         for (d = 0; d < dim; d++) {
@@ -227,8 +235,6 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
             for (d = 0; d < dim; d++) v[k][d] = vcm[d];
         } else alpha = CohesiveLaw(S, C, k, other, m[k], n, dn, A, Dn, dt, vcm, v[k]);
         PSNodeBC(S, ip, v[k]);
-        if (alpha < 1.0) /* a pair that sticks moves as the single field: no work on an opening */
-          for (d = 0; d < dim; d++) *iwork -= m[k] * (v[k][d] - v0[d]) * v[k][d];
         al[k] = alpha; /* V[k] is still read by the other fields' A */
       } else { /* the re-projection: where the grid phase stuck, stick; else each ply its own velocity, no interpenetration */
         if (V[k] >= 1.0)
@@ -263,15 +269,31 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
     work += 0.5 * m[k] * (e0 - e1);
     PSNodeBC(S, ip, v[k]); /* the normal may lean into a direction a face holds */
   }
-  if (iwork)
-    for (k = 0; k < nf; k++) V[k] = al[k];
-  /* the damage of the node's cohesive pair: its two heaviest fields */
+  /* three or more fields: each field's correction towards v_cm along its own
+     normal does not cancel as two fields' (n_a = -n_b) do; the momentum it
+     leaves over is taken back by one velocity shift of all fields, which keeps
+     their relative velocities (the contact and the cohesive law) */
+  if (nh > 2) {
+    for (k = 0; k < nf; k++)
+      if (m[k] > S->mass_min)
+        for (d = 0; d < dim; d++) dP[d] += m[k] * v[k][d];
+    for (k = 0; k < nf; k++)
+      if (m[k] > S->mass_min) {
+        for (d = 0; d < dim; d++) v[k][d] -= (dP[d] - P0[d]) / M;
+        PSNodeBC(S, ip, v[k]);
+      }
+  }
+  /* the damage of the node's cohesive pair, its two heaviest fields, and the
+     energy its law took */
   if (Dnew && b >= 0 && C->coh && C->coh[a * nf + b] >= 0) {
     const PetscReal Dn = PetscMin(1.0, PetscMax(0.0, (m[a] * Dk[a] + m[b] * Dk[b]) / (m[a] + m[b])));
-    *Dnew              = (nk[a][0] != 0.0 || nk[a][1] != 0.0 || nk[a][2] != 0.0) ? CohesiveDamage(S, C, a, b, nk[a], Dn, dt, v) : Dn;
+    const PetscReal A  = 0.5 * (PetscSqrtReal(gm[a][0] * gm[a][0] + gm[a][1] * gm[a][1] + gm[a][2] * gm[a][2]) * V[a] / m[a] + PetscSqrtReal(gm[b][0] * gm[b][0] + gm[b][1] * gm[b][1] + gm[b][2] * gm[b][2]) * V[b] / m[b]);
+    *Dnew              = (nk[a][0] != 0.0 || nk[a][1] != 0.0 || nk[a][2] != 0.0) ? CohesiveDamage(S, C, a, b, nk[a], Dn, A, dt, v, iwork) : Dn;
     pair[0]            = a;
     pair[1]            = b;
   }
+  if (iwork)
+    for (k = 0; k < nf; k++) V[k] = al[k];
   return work;
 }
 

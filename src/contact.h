@@ -45,7 +45,7 @@ typedef struct PSContact_ {
   PetscSF    sfg, sfh;      /* their ghost exchange (halo.c) */
   PetscInt   zbox[3][2];    /* nodes the last step wrote: g and h are zero elsewhere */
   PetscReal  friction_work; /* this rank's kinetic energy removed by the tangential correction, cumulative (J) */
-  PetscReal  interface_energy; /* this rank's work of the cohesive interfaces' tractions on the opening, cumulative (J) */
+  PetscReal  interface_energy; /* this rank's energy the cohesive laws took (dissipated in opening), cumulative (J) */
 } PSContact;
 
 PETSC_INTERN PetscErrorCode PSContactDestroy(PSContact **);

@@ -15,8 +15,8 @@
                             max_pressure (0 once nothing is left), of markers and cell
                             materials together; with cell materials also remap_heat and
                             coupling_work (J, cumulative, both included in internal);
-                            then interface_energy (J, cumulative: the work of the cohesive ply
-                            interfaces' tractions on their opening, contact.c)
+                            then interface_energy (J, cumulative: the energy the cohesive ply
+                            interfaces' law took as they opened, contact.c)
                             and friction_work (J, cumulative: the kinetic energy the
                             contact's friction removed, contact.c)
   OUTDIR/bodies.csv         time, body, mass, px, py[, pz], kinetic, vx, vy[, vz]

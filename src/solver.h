@@ -193,7 +193,7 @@ typedef struct {
   PetscReal  remap_heat;                             /* J: kinetic energy the cells' remap put into internal energy (included in internal) */
   PetscReal  coupling_work;                          /* J: work of fitting cell materials around the markers (included in internal) */
   PetscReal  friction_work;                          /* J: kinetic energy the contact's friction removed (contact.c), cumulative */
-  PetscReal  interface_energy;                       /* J: work of the cohesive ply interfaces' tractions on their opening (contact.c), cumulative */
+  PetscReal  interface_energy;                       /* J: energy the cohesive ply interfaces' law took as they opened (contact.c), cumulative */
   PetscInt64 markers, lost_markers;
 } PSTotals;
 

@@ -66,6 +66,11 @@ def test_mode_one_opening_takes_G_I_per_area(tmpdir_mpi):
     drift = np.max(np.abs(Hc["total"] - Hc["total"][0])) / Hc["total"][0]
     assert drift < 0.02, drift
     assert np.allclose(Hc["total"], Hc["kinetic"] + Hc["internal"] + Hc["lost_energy"] + Hc["friction_work"] + Hc["interface_energy"], rtol=1e-10)
+    p0 = Hc["px"][0]
+    # the law exchanges momentum between the plies and keeps it; what drifts
+    # (measured 3e-9 of the flyer's) is the force the grid update drops on
+    # nodes lighter than run.mass_threshold, as in contact (docs/contact.md)
+    assert np.max(np.abs(Hc["px"] - p0)) <= 1e-8 * p0
     if COMM.rank == 0:
         print(f"\nmode I: interface energy {ratio:.4f} G_I A; top ply {vt:.2f} m/s (strengthless {vt_free:.2f}); total drift {100 * drift:.2f}%")
 

@@ -90,8 +90,9 @@ def _parser():
     pl.add_argument("--axis", type=int, default=1, choices=(1, 2, 3), help="material axis drawn as glyphs (default 1, the fibre)")
     pl.add_argument("--bodies", help="comma-separated body names to draw (default: all)")
     pl.add_argument("--zoom", type=float, nargs="+", metavar="X", help="zoom box: x0 y0 x1 y1 (2D) or x0 y0 z0 x1 y1 z1 (3D), metres")
-    pl.add_argument("--color", default="ply", choices=("ply", "body", "material", "damage"),
-                    help="what colours the glyphs (default ply; damage: a run step's largest ply damage)")
+    pl.add_argument("--color", default="ply", choices=("ply", "body", "material", "damage", "interface_damage"),
+                    help="what colours the glyphs (default ply; damage: a run step's largest ply damage; "
+                    "interface_damage: its cohesive ply interfaces' damage, delamination)")
     pl.add_argument("--view", choices=("xz",), help="3D: look at the x-z plane (a cut; pair with a thin --zoom slab in y)")
     pl.add_argument("--every", type=int, default=1, help="draw every n-th glyph (default 1)")
     pl.add_argument("--field", help="colour markers by a field of a run step instead of glyphs: pressure, stress (von Mises), "
@@ -281,8 +282,9 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None, cells=None, cell
     """An impact example from layup to pictures (the method's figures): run the
     scene to run.t_end in OUTDIR, then on rank 0 draw before.png (fibre glyphs
     coloured by ply at t = 0), after.png (the turned fibre glyphs at the end),
-    damage.png (the same glyphs coloured by ply damage, when a ply can fail)
-    and velocity.png (the projectile's mean velocity against time).  With cut
+    damage.png (the same glyphs coloured by ply damage, when a ply can fail),
+    delamination.png (coloured by interface damage, when a laminate has
+    cohesive ply interfaces) and velocity.png (the projectile's mean velocity against time).  With cut
     (a zoom box of a slab in y, 3D) the first three also in the cut, looked at
     in the x-z plane (*_cut.png).  With cells, a list of (name, --cells value,
     log scale, range or None), a scene with bodies in cells also gets
@@ -313,6 +315,9 @@ def impact(scene, outdir, zoom=None, projectile=None, cut=None, cells=None, cell
             can_fail = any((m.failure or {}).get("type") == "hashin" for m in scene.materials)
             pics = [("before", steps[0], "ply", zoom, None), ("after", steps[-1], "ply", zoom, None)]
             pics += [("damage", steps[-1], "damage", zoom, None)] if can_fail else []
+            cohesive = any(b.kind == "laminate" and b.laminate.interface is not None and b.laminate.interface.cohesive
+                           for b in scene.bodies)
+            pics += [("delamination", steps[-1], "interface_damage", zoom, None)] if cohesive else []
             if cut:
                 pics += [(f"{name}_cut", f, c, cut, "xz") for name, f, c, _, _ in pics]
             for name, f, color, box, view in pics:

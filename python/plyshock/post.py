@@ -360,8 +360,9 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
                  cells=None, cells_log=False, cells_range=None, title=None, font_size=10):
     """Render the markers of `path` to `png`; returns the png path.
 
-    color: ply, body or material (categorical), or damage (a ply marker's
-    largest damage variable, 0..1).  view (3D): None (oblique, default), or
+    color: ply, body or material (categorical), damage (a ply marker's
+    largest damage variable, 0..1) or interface_damage (the damage of the
+    cohesive ply interface next to the marker, 0..1: delamination).  view (3D): None (oblique, default), or
     "xz" to look at a cut in the x-z plane (pair it with a thin zoom box in y).
     cells: a --cells value (e.g. "pressure", "volume_fraction:air"): that cell
     field of the step's grid file drawn under the markers (read_cells), with
@@ -396,21 +397,23 @@ def plot_markers(path, png, axis=1, bodies=None, zoom=None, color="ply", every=1
     p.set_background("white")
     if cf is not None:
         _add_cells(p, cf, dim, zoom, view, cells_log, cells_range)
-    if color == "damage":
-        if "damage" not in d:
-            raise SystemExit("plyshock plot: --color damage needs a run step with a damage field")
-        dm = d["damage"]
+    if color in ("damage", "interface_damage"):
+        if color not in d:
+            raise SystemExit(f"plyshock plot: --color {color} needs a run step with a {color} field"
+                             + (" (a laminate with interface: {type: cohesive})" if color == "interface_damage" else ""))
+        dm = d[color]
         key = dm.max(axis=1) if dm.ndim == 2 else dm
     else:
         key = {"ply": ply, "body": d["body"], "material": d["material"]}[color]
-    labels = {"ply": None, "body": d["body_names"], "material": d["material_names"], "damage": None}[color]
+    labels = {"ply": None, "body": d["body_names"], "material": d["material_names"], "damage": None, "interface_damage": None}[color]
     # categorical colours: one per ply (body, material), fixed by id so pictures compare
     from matplotlib import colormaps
     from matplotlib.colors import ListedColormap
-    if color == "damage":
+    if color in ("damage", "interface_damage"):
         # continuous: undamaged blue to failed red
         cmap, ncat, notes = "coolwarm", 2, None
-        bar = {"title": "damage (max of d_ft, d_fc, d_mt, d_mc)", "color": "black"}
+        bar = {"title": "damage (max of d_ft, d_fc, d_mt, d_mc)" if color == "damage" else
+               "interface damage (0 bonded, 1 delaminated)", "color": "black"}
         clim = [0.0, 1.0]
     else:
         ncat = int(key[lam].max()) + 1 if lam.any() else 1

@@ -108,7 +108,19 @@ def contact_study(print0, quick=False):
         e = abs(-dvx / dvy - MU) / MU
         rows.append(dict(problem="coulomb", size=h, steps=steps, wall_s=wall, error=e))
         print0(f"coulomb  h {h * 1e3:5.3f} mm  steps {steps:5d}  wall {wall:6.2f} s  -dv_x/dv_y {-dvx / dvy:.4f} (mu {MU})  error {e:.3e}")
+    for h in ((50e-6, 25e-6) if quick else (50e-6, 25e-6, 12.5e-6)):
+        from .verify import run_scratch
+        H, wall, _, S = run_scratch(spall(100e6, h=h), _history)
+        took = H["interface_energy"][-1] / (G_I * 4 * h)
+        e = abs(took - 1)
+        rows.append(dict(problem="mode I", size=h, steps=S.step_count, wall_s=wall, error=e))
+        print0(f"mode I   h {h * 1e6:5.1f} um  steps {S.step_count:5d}  wall {wall:6.2f} s  interface energy {took:.4f} G_I A  "
+               f"total drift {100 * (H['total'][-1] / H['total'][0] - 1):+.2f}%  error {e:.3e}")
     return rows
+
+
+def _history(outdir):
+    return np.genfromtxt(os.path.join(outdir, "history.csv"), delimiter=",", names=True)
 
 
 def plot_contact(rows, png):
@@ -116,14 +128,15 @@ def plot_contact(rows, png):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
     titles = {"trap": "momentum trap: (|v_rear - V| + |v_front| + |v_flyer|) / V",
-              "coulomb": f"sliding block: |(-dv_t / dv_n) - mu| / mu, mu = {MU}"}
-    for a, prob in zip(ax, ("trap", "coulomb")):
+              "coulomb": f"sliding block: |(-dv_t / dv_n) - mu| / mu, mu = {MU}",
+              "mode I": "cohesive mode I (spall): |interface energy / (G_I A) - 1|"}
+    for a, prob in zip(ax, ("trap", "coulomb", "mode I")):
         rs = [r for r in rows if r["problem"] == prob]
         a.loglog([r["wall_s"] for r in rs], [max(r["error"], 1e-16) for r in rs], "o-")
         for r in rs:
-            lab = f"{r['size'] * 1e6:g} um" if prob == "trap" else f"{r['size'] * 1e3:g} mm"
+            lab = f"{r['size'] * 1e3:g} mm" if prob == "coulomb" else f"{r['size'] * 1e6:g} um"
             a.annotate(lab, (r["wall_s"], max(r["error"], 1e-16)), textcoords="offset points", xytext=(4, 4), fontsize=8)
         a.set_title(titles[prob], fontsize=9)
         a.set_xlabel("wall time (s, 2 ranks)")
