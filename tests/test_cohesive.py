@@ -41,14 +41,13 @@ def ply_velocity(f, k):
 
 def test_mode_one_opening_takes_G_I_per_area(tmpdir_mpi):
     """N = 100 MPa < sigma0: the interface opens.  Once open it has taken G_I
-    per unit of area (measured 0.992 G_I A at 25 um cells; 0.90 at 50 um, 0.985
+    per unit of area (measured 0.967 G_I A at 25 um cells; 0.82 at 50 um, 0.997
     at 12.5 um: plyshock verify --only contact), bound 5%; the markers next to
     the interface are fully damaged (D = 1) on both sides and those more than
     four cells away untouched (D = 0); the top ply leaves slower than with a
     strengthless interface (17.84 against 19.39 m/s measured: the law pulls it
     back) and apart from the lower ply; total = kinetic + internal +
-    interface_energy stays within 2% (measured +0.7%: the interface books
-    9.2% of the energy, kinetic + internal lose 8.5%)."""
+    interface_energy stays within 2% (measured +0.66%)."""
     Hc, f = run(spall(100e6), os.path.join(tmpdir_mpi, "open"), ("x", "v", "mass", "ply", "interface_damage"))
     Hf, ff = run(spall(1e3, G=1e-6), os.path.join(tmpdir_mpi, "free"))
     ratio = Hc["interface_energy"][-1] / (G_I * AREA)
