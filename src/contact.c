@@ -297,31 +297,78 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
   return work;
 }
 
-/* 1. the fields' P2G (after the single field's: it evaluated S->shape) */
+/* 1. the fields' P2G (after the single field's: it evaluated S->shape).
+   First the fields' masses alone, summed over the ranks, mark the shared
+   nodes and the markers near them (touching one); then the near markers put
+   their full fields.  At a shared node every marker touching it is near, so
+   the fields there are whole (the same sums, in the same order, as from all
+   markers); elsewhere they are partial and unused. */
 PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
   PSContact     *C   = S->contact;
-  const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1, fs = C->fs;
-  PetscInt       p, a, b, c, d, e;
+  const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1, fs = C->fs, nf = C->nfield;
+  PetscInt       p, a, b, c, d, e, lo[3], hi[3], i, j, k, nnear = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_ContactP2G, 0, 0, 0, 0));
   ZeroBox(ix, C->g, C->gdof, C->zbox);
   ZeroBox(ix, C->h, C->hdof, C->zbox);
+  ZeroBox(ix, C->mk, nf, C->zbox);
   PetscCall(PetscArraycpy(&C->zbox[0][0], &S->zbox[0][0], 6));
+  if (f->n > C->nnear) {
+    PetscCall(PetscFree(C->near));
+    C->nnear = (PetscInt)(1.2 * f->n) + 16;
+    PetscCall(PetscMalloc1(C->nnear, &C->near));
+  }
+  /* the fields' masses */
+  for (p = 0; p < f->n; p++) {
+    const PSShape  *sh = &S->shape[p];
+    const PetscInt  kf = MarkerField(C, f, p);
+    const PetscReal m  = f->mass[p];
+    PetscCheck(kf >= 0 && kf < nf, PETSC_COMM_SELF, PETSC_ERR_PLIB, "marker %lld of body %" PetscInt_FMT " has no velocity field", (long long)f->id[p], f->body[p]);
+    for (c = 0; c < nz; c++)
+      for (b = 0; b < N; b++)
+        for (a = 0; a < N; a++) C->mk[nf * Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0) + kf] += sh->w[0][a] * sh->w[1][b] * (dim == 3 ? sh->w[2][c] : 1.0) * m;
+  }
+  PetscCall(PetscLogEventEnd(PS_EV_ContactP2G, 0, 0, 0, 0));
+  PetscCall(PSHaloReduce(C->sfm, C->mk));
+  PetscCall(PSHaloBcast(C->sfm, C->mk));
+  PetscCall(PetscLogEventBegin(PS_EV_ContactP2G, 0, 0, 0, 0));
+  /* the shared nodes of the box, ghosts included */
+  Clip(C->zbox, ix->gs, ix->gm, lo, hi);
+  for (k = lo[2]; k < hi[2]; k++)
+    for (j = lo[1]; j < hi[1]; j++)
+      for (i = lo[0]; i < hi[0]; i++) {
+        const PetscInt   o  = Lidx(ix, i, j, k);
+        const PetscReal *mo = &C->mk[nf * o];
+        PetscInt         nh = 0, q;
+        for (q = 0; q < nf; q++) nh += mo[q] > S->mass_min;
+        C->shared[o] = nh >= 2;
+      }
+  /* the near markers, and their full fields */
   for (p = 0; p < f->n; p++) {
     const PSShape   *sh = &S->shape[p];
-    const PetscInt   k  = MarkerField(C, f, p);
+    const PetscInt   kf = MarkerField(C, f, p);
     const PetscReal *v = &f->v[p * dim], m = f->mass[p], V = f->vol[p], mD = f->Di ? m * f->Di[p] : 0.0;
     PetscReal        s[3][3];
-    PetscCheck(k >= 0 && k < C->nfield, PETSC_COMM_SELF, PETSC_ERR_PLIB, "marker %lld of body %" PetscInt_FMT " has no velocity field", (long long)f->id[p], f->body[p]);
+    char             nr = 0;
+    for (c = 0; c < nz && !nr; c++)
+      for (b = 0; b < N && !nr; b++)
+        for (a = 0; a < N; a++)
+          if (C->shared[Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0)]) {
+            nr = 1;
+            break;
+          }
+    C->near[p] = nr;
+    if (!nr) continue;
+    nnear++;
     ForceStress(dim, &f->sig[p * PSStressComponents(dim)], f->q[p], s);
     for (c = 0; c < nz; c++)
       for (b = 0; b < N; b++)
         for (a = 0; a < N; a++) {
           const PetscReal wz = dim == 3 ? sh->w[2][c] : 1.0, w = sh->w[0][a] * sh->w[1][b] * wz;
           const PetscReal gN[3] = {sh->dw[0][a] * sh->w[1][b] * wz, sh->w[0][a] * sh->dw[1][b] * wz, dim == 3 ? sh->w[0][a] * sh->w[1][b] * sh->dw[2][c] : 0.0};
-          PetscReal      *gk = &C->g[C->gdof * Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0) + k * fs];
+          PetscReal      *gk = &C->g[C->gdof * Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0) + kf * fs];
           gk[0] += w * m;
           gk[1 + 3 * dim] += w * V;
           gk[2 + 3 * dim] += w * mD;
@@ -332,6 +379,8 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
           }
         }
   }
+  C->near_steps += nnear;
+  C->marker_steps += f->n;
   PetscCall(PetscLogEventEnd(PS_EV_ContactP2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -387,9 +436,10 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new, dx_p = dt sum N v_new
-   from the marker's field at shared nodes, the single field elsewhere;
-   4. the re-projection's P2G into the single field (S->hv) and the field (C->h) */
+/* 3. G2P of the near markers (PSMUSLG2P took the others): v_p = (1 - a)(v_p +
+   sum N dv) + a sum N v_new, dx_p = dt sum N v_new from the marker's field at
+   shared nodes, the single field elsewhere; 4. the re-projection's P2G into
+   the single field (S->hv) and the field (C->h) */
 PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
 {
   PSContact      *C   = S->contact;
@@ -401,6 +451,7 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_ContactG2P, 0, 0, 0, 0));
   for (p = 0; p < f->n; p++) {
+    if (!C->near[p]) continue; /* away from shared nodes: the single field's kernel (PSMUSLG2P) took it */
     const PSShape *sh = &S->shape[p];
     const PetscInt k  = MarkerField(C, f, p);
     PetscReal     *v = &f->v[p * dim], m = f->mass[p], vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, wD = 0.0, sD = 0.0;
@@ -451,8 +502,9 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
 }
 
 /* 4. the fields' re-projected velocity with the contact law at shared nodes
-   (after the single field's, PSMUSLReproject), then 5. L_p from the marker's
-   field at shared nodes and the single field elsewhere, into S->Lp */
+   (after the single field's, PSMUSLReproject, which gave the markers away
+   from them their L_p), then 5. the near markers' L_p from their field at
+   shared nodes and the single field elsewhere, into S->Lp */
 PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
   PSContact     *C   = S->contact;
@@ -493,6 +545,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   PetscCall(PSHaloBcast(C->sfh, C->h));
   PetscCall(PetscLogEventBegin(PS_EV_ContactReproject, 0, 0, 0, 0));
   for (p = 0; p < f->n; p++) {
+    if (!C->near[p]) continue; /* away from shared nodes: PSMUSLReproject gave its L_p */
     const PSShape *sh = &S->shape[p];
     const PetscInt k  = MarkerField(C, f, p);
     PetscReal      L[3][3] = {{0}};
@@ -571,8 +624,10 @@ PetscErrorCode PSSolverSetContact(PSSolver *S, PetscInt nbody, const PetscInt fi
   PetscCall(PSGridIndex(S->da, &ix));
   C->nl = ix.gm[0] * ix.gm[1] * ix.gm[2];
   PetscCall(PetscCalloc2(C->nl * C->gdof, &C->g, C->nl * C->hdof, &C->h));
+  PetscCall(PetscCalloc2(C->nl * nfield, &C->mk, C->nl, &C->shared));
   PetscCall(PSHaloCreate(S, C->gdof, &C->sfg));
   PetscCall(PSHaloCreate(S, C->hdof, &C->sfh));
+  PetscCall(PSHaloCreate(S, nfield, &C->sfm));
   S->contact = C;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -585,6 +640,9 @@ PetscErrorCode PSContactDestroy(PSContact **C)
   PetscCall(PetscFree((*C)->mu));
   PetscCall(PetscFree2((*C)->coh, (*C)->cohp));
   PetscCall(PetscFree2((*C)->g, (*C)->h));
+  PetscCall(PetscFree2((*C)->mk, (*C)->shared));
+  PetscCall(PetscFree((*C)->near));
+  PetscCall(PetscSFDestroy(&(*C)->sfm));
   PetscCall(PetscSFDestroy(&(*C)->sfg));
   PetscCall(PetscSFDestroy(&(*C)->sfh));
   PetscCall(PetscFree(*C));

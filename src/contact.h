@@ -22,7 +22,11 @@
       [(mv)_k] -> [v_k] (shared nodes).
   A node is shared when two or more fields carry more than mass_min there; only
   shared nodes use the fields, every other node the single field of the step's
-  grid array (S->g, S->hv), which holds the sum of all fields.
+  grid array (S->g, S->hv), which holds the sum of all fields.  Only markers
+  that touch a shared node (near) pay for the fields: a first pass puts the
+  fields' masses alone (mk) to find the shared nodes; the full fields' P2G,
+  G2P and L_p run on the near markers, the single field's fast kernels
+  (transfer_musl.c) on the others.
 */
 #ifndef PLYSHOCK_CONTACT_H
 #define PLYSHOCK_CONTACT_H
@@ -44,6 +48,12 @@ typedef struct PSContact_ {
   PetscReal *g, *h;         /* ghosted local arrays (layouts above) */
   PetscSF    sfg, sfh;      /* their ghost exchange (halo.c) */
   PetscInt   zbox[3][2];    /* nodes the last step wrote: g and h are zero elsewhere */
+  PetscReal *mk;            /* ghosted local array of the fields' nodal masses alone (nfield per node): which nodes are shared */
+  PetscSF    sfm;           /* its ghost exchange */
+  char      *shared;        /* per ghosted local node: 1 where two or more fields are heavier than mass_min */
+  char      *near;          /* per marker: 1 if it touches a shared node (it takes the field kernels; the others the single field's) */
+  PetscInt   nnear;         /* capacity of near */
+  PetscInt64 near_steps, marker_steps; /* markers that took the field kernels, and all, summed over steps (this rank) */
   PetscReal  friction_work; /* this rank's kinetic energy removed by the tangential correction, cumulative (J) */
   PetscReal  interface_energy; /* this rank's energy the cohesive laws took (dissipated in opening), cumulative (J) */
 } PSContact;
