@@ -316,9 +316,9 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
   ZeroBox(ix, C->mk, nf, C->zbox);
   PetscCall(PetscArraycpy(&C->zbox[0][0], &S->zbox[0][0], 6));
   if (f->n > C->nnear) {
-    PetscCall(PetscFree(C->near));
+    PetscCall(PetscFree2(C->near, C->vold));
     C->nnear = (PetscInt)(1.2 * f->n) + 16;
-    PetscCall(PetscMalloc1(C->nnear, &C->near));
+    PetscCall(PetscMalloc2(C->nnear, &C->near, C->nnear * dim, &C->vold));
   }
   /* the fields' masses */
   for (p = 0; p < f->n; p++) {
@@ -362,6 +362,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
     C->near[p] = nr;
     if (!nr) continue;
     nnear++;
+    for (d = 0; d < dim; d++) C->vold[p * dim + d] = v[d];
     ForceStress(dim, &f->sig[p * PSStressComponents(dim)], f->q[p], s);
     for (c = 0; c < nz; c++)
       for (b = 0; b < N; b++)
@@ -436,10 +437,11 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* 3. G2P of the near markers (PSMUSLG2P took the others): v_p = (1 - a)(v_p +
-   sum N dv) + a sum N v_new, dx_p = dt sum N v_new from the marker's field at
-   shared nodes, the single field elsewhere; 4. the re-projection's P2G into
-   the single field (S->hv) and the field (C->h) */
+/* 3. G2P of the near markers, redone after the single field's (PSMUSLG2P, every
+   marker) from their velocity before it: v_p = (1 - a)(v_p + sum N dv) + a
+   sum N v_new, dx_p = dt sum N v_new from the marker's field at shared nodes,
+   the single field elsewhere; 4. the re-projection's P2G into the field (C->h),
+   and into the single field (S->hv) the difference from what PSMUSLG2P put */
 PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
 {
   PSContact      *C   = S->contact;
@@ -451,10 +453,14 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_ContactG2P, 0, 0, 0, 0));
   for (p = 0; p < f->n; p++) {
-    if (!C->near[p]) continue; /* away from shared nodes: the single field's kernel (PSMUSLG2P) took it */
+    if (!C->near[p]) continue; /* away from shared nodes: the single field's G2P is its own */
     const PSShape *sh = &S->shape[p];
     const PetscInt k  = MarkerField(C, f, p);
-    PetscReal     *v = &f->v[p * dim], m = f->mass[p], vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, wD = 0.0, sD = 0.0;
+    PetscReal     *v = &f->v[p * dim], m = f->mass[p], vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, wD = 0.0, sD = 0.0, vs[3] = {0, 0, 0}, dm[3];
+    for (d = 0; d < dim; d++) { /* PSMUSLG2P's velocity (its re-projection momentum is replaced below), and the one before */
+      vs[d] = v[d];
+      v[d]  = C->vold[p * dim + d];
+    }
     for (c = 0; c < nz; c++)
       for (b = 0; b < N; b++)
         for (a = 0; a < N; a++) {
@@ -486,13 +492,14 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
        the nodes' value, so that markers farther from the interface, which the
        nodes' mass-weighted mean also counts, do not hold the damage back) */
     if (wD > 0.0 && f->Di) f->Di[p] = PetscMin(1.0, f->Di[p] + sD / wD);
+    for (d = 0; d < dim; d++) dm[d] = m * (v[d] - vs[d]);
     for (c = 0; c < nz; c++)
       for (b = 0; b < N; b++)
         for (a = 0; a < N; a++) {
           const PetscInt  o = Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0);
           const PetscReal w = sh->w[0][a] * sh->w[1][b] * (dim == 3 ? sh->w[2][c] : 1.0);
           for (d = 0; d < dim; d++) {
-            S->hv[hdof * o + ho + d] += w * m * v[d];
+            S->hv[hdof * o + ho + d] += w * dm[d]; /* the single field's re-projection had m v_s */
             C->h[C->hdof * o + k * dim + d] += w * m * v[d];
           }
         }
@@ -502,9 +509,9 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
 }
 
 /* 4. the fields' re-projected velocity with the contact law at shared nodes
-   (after the single field's, PSMUSLReproject, which gave the markers away
-   from them their L_p), then 5. the near markers' L_p from their field at
-   shared nodes and the single field elsewhere, into S->Lp */
+   (after the single field's, PSMUSLReproject, which gave every marker an L_p),
+   then 5. the near markers' L_p, redone from their field at shared nodes and
+   the single field elsewhere, into S->Lp */
 PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
   PSContact     *C   = S->contact;
@@ -545,7 +552,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   PetscCall(PSHaloBcast(C->sfh, C->h));
   PetscCall(PetscLogEventBegin(PS_EV_ContactReproject, 0, 0, 0, 0));
   for (p = 0; p < f->n; p++) {
-    if (!C->near[p]) continue; /* away from shared nodes: PSMUSLReproject gave its L_p */
+    if (!C->near[p]) continue; /* away from shared nodes: PSMUSLReproject's L_p is its own */
     const PSShape *sh = &S->shape[p];
     const PetscInt k  = MarkerField(C, f, p);
     PetscReal      L[3][3] = {{0}};
@@ -641,7 +648,7 @@ PetscErrorCode PSContactDestroy(PSContact **C)
   PetscCall(PetscFree2((*C)->coh, (*C)->cohp));
   PetscCall(PetscFree2((*C)->g, (*C)->h));
   PetscCall(PetscFree2((*C)->mk, (*C)->shared));
-  PetscCall(PetscFree((*C)->near));
+  PetscCall(PetscFree2((*C)->near, (*C)->vold));
   PetscCall(PetscSFDestroy(&(*C)->sfm));
   PetscCall(PetscSFDestroy(&(*C)->sfg));
   PetscCall(PetscSFDestroy(&(*C)->sfh));

@@ -25,8 +25,9 @@
   grid array (S->g, S->hv), which holds the sum of all fields.  Only markers
   that touch a shared node (near) pay for the fields: a first pass puts the
   fields' masses alone (mk) to find the shared nodes; the full fields' P2G,
-  G2P and L_p run on the near markers, the single field's fast kernels
-  (transfer_musl.c) on the others.
+  G2P and L_p run on the near markers only.  The single field's fast kernels
+  (transfer_musl.c, unchanged) run on every marker first; the near markers'
+  G2P and L_p are then redone from their field.
 */
 #ifndef PLYSHOCK_CONTACT_H
 #define PLYSHOCK_CONTACT_H
@@ -52,7 +53,8 @@ typedef struct PSContact_ {
   PetscSF    sfm;           /* its ghost exchange */
   char      *shared;        /* per ghosted local node: 1 where two or more fields are heavier than mass_min */
   char      *near;          /* per marker: 1 if it touches a shared node (it takes the field kernels; the others the single field's) */
-  PetscInt   nnear;         /* capacity of near */
+  PetscReal *vold;          /* per marker (dim): a near marker's velocity before G2P (the single field's G2P updates every marker first) */
+  PetscInt   nnear;         /* capacity of near and vold (markers) */
   PetscInt64 near_steps, marker_steps; /* markers that took the field kernels, and all, summed over steps (this rank) */
   PetscReal  friction_work; /* this rank's kinetic energy removed by the tangential correction, cumulative (J) */
   PetscReal  interface_energy; /* this rank's energy the cohesive laws took (dissipated in opening), cumulative (J) */

@@ -11,13 +11,12 @@
                 cells/lagrange.c  cells' nodal mass, momentum, force (same nodes)
     grid        grid.c            ghost sums, v_i with the boundary conditions, ghosts back
     contact     contact.c         (bodies in contact) each field's v_i, the contact law where fields meet
-    G2P         transfer_*.c      markers' velocity and displacement (musl: re-projection); with contact
-                                  the markers away from shared nodes
-                contact.c         (bodies in contact) the same for the markers near them, from their field
+    G2P         transfer_*.c      markers' velocity and displacement (musl: re-projection)
+                contact.c         (bodies in contact) redone for the markers near shared nodes, from their field
     Lagrange    cells/lagrange.c  cells deform with the nodal velocity: closure, EOS, strength
     re-project  transfer_musl.c   (musl) the re-projected velocity and L_p
                 contact.c         (bodies in contact) the fields' re-projected velocity, contact law, L_p
-                                  of the markers near shared nodes
+                                  redone for the markers near shared nodes
     stress      stress.c          markers' constitutive update, x_p += dx_p
     remap       cells/remap.c     cell materials and their momentum back to the fixed grid
     migrate     migrate.c         out-of-domain markers booked, the rest to their owners
@@ -65,7 +64,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   if (S->cells) PetscCall(PSCellsToGrid(S, &ix, dt));
   PetscCall(PSGridSolve(S, &ix, dt));
   if (S->contact) PetscCall(PSContactGridSolve(S, &ix, dt));
-  if (musl) PetscCall(PSMUSLG2P(S, &f, &ix, dt)); /* with contact: the markers away from where fields meet */
+  if (musl) PetscCall(PSMUSLG2P(S, &f, &ix, dt)); /* with contact too: contact.c redoes the markers near shared nodes */
   else PetscCall(PSAPICG2P(S, &f, &ix, dt));
   if (S->contact) PetscCall(PSContactG2P(S, &f, &ix, dt));
   if (S->cells) PetscCall(PSCellsLagrange(S, &ix, dt));

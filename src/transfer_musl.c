@@ -33,7 +33,6 @@
   two vector multiply-adds in each pass.
 */
 #include "step.h"
-#include "contact.h"
 #include "cells/cells.h"
 
 /* 1. P2G of one marker, dim and N constant */
@@ -110,7 +109,7 @@ static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFi
 
 /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new, dx_p = dt sum N v_new;
    4. and in the same pass the re-projection (mv)_i += N_ip m_p v_p^{n+1} */
-static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *g, PetscReal *hv, const char *skip)
+static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *g, PetscReal *hv)
 {
   const PetscInt  dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1;
   const PetscInt  sy = dof * ix->gm[0], sz = sy * ix->gm[1], hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
@@ -118,7 +117,6 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
   PetscInt        p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
-    if (skip && skip[p]) continue;                  /* bodies in contact: this marker takes its field's (contact.c) */
     const PSShape    shl = S->shape[p], *sh = &shl; /* a local copy: stores into hv cannot alias it */
     const PetscInt   o  = Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2]);
     const PetscReal *g0 = &g[dof * o];
@@ -181,13 +179,12 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
 
 /* 5. L_p = sum_i v_i (x) grad N_ip from the re-projected velocities, into
    S->Lp (9 reals per marker, row major) */
-static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *hv, const char *skip)
+static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *hv)
 {
   const PetscInt hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1, hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
   PetscInt       p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
-    if (skip && skip[p]) continue; /* bodies in contact: this marker's L_p from its field (contact.c) */
     const PSShape    shl = S->shape[p], *sh = &shl;
     const PetscReal *h0 = &hv[hdof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])];
     PetscReal       *L  = &S->Lp[9 * p];
@@ -279,13 +276,11 @@ PetscErrorCode PSMUSLG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal 
 {
   const PetscInt N = PSShapeNodes(S->run.shape);
   PetscReal     *g = S->g, *hv = S->hv;
-  const char    *skip = S->contact ? S->contact->near : NULL; /* bodies in contact: markers contact.c takes */
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
-  /* each kernel compiled twice: without a skip mask (one field: the loop as it was) and with one */
-#define G2P3(n) (skip ? G2PAll(S, f, ix, dt, 3, n, g, hv, skip) : G2PAll(S, f, ix, dt, 3, n, g, hv, NULL))
-#define G2P2(n) (skip ? G2PAll(S, f, ix, dt, 2, n, g, hv, skip) : G2PAll(S, f, ix, dt, 2, n, g, hv, NULL))
+#define G2P3(n) G2PAll(S, f, ix, dt, 3, n, g, hv)
+#define G2P2(n) G2PAll(S, f, ix, dt, 2, n, g, hv)
   PS_MUSL_DISPATCH(G2P3, G2P2);
   PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -298,7 +293,6 @@ PetscErrorCode PSMUSLReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
   const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), hdof = PSReprojectDof(S);
   PetscReal     *hv = S->hv;
-  const char    *skip = S->contact ? S->contact->near : NULL;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_Reproject, 0, 0, 0, 0));
@@ -306,11 +300,11 @@ PetscErrorCode PSMUSLReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   if (S->cells) PSGridAddOwned(S, ix, S->cells->P, dim, hv + hdof - dim, hdof);
   PSGridVelocity(S, ix, S->g, PSGridDof(S), hv + hdof - dim, hdof);
   PetscCall(PSHaloBcast(S->sfh, hv));
-  /* with bodies in contact the markers next to a node where fields meet take
-     L_p from their field (contact.c, plane strain and 3D only) */
-#define GRAD3(n)  (skip ? GradientAll(S, f, ix, 3, n, PETSC_FALSE, hv, skip) : GradientAll(S, f, ix, 3, n, PETSC_FALSE, hv, NULL))
-#define GRAD2(n)  (skip ? GradientAll(S, f, ix, 2, n, PETSC_FALSE, hv, skip) : GradientAll(S, f, ix, 2, n, PETSC_FALSE, hv, NULL))
-#define GRAD2A(n) GradientAll(S, f, ix, 2, n, PETSC_TRUE, hv, NULL)
+  /* with bodies in contact, contact.c then gives the markers next to a node
+     where fields meet their L_p from their field (plane strain and 3D only) */
+#define GRAD3(n)  GradientAll(S, f, ix, 3, n, PETSC_FALSE, hv)
+#define GRAD2(n)  GradientAll(S, f, ix, 2, n, PETSC_FALSE, hv)
+#define GRAD2A(n) GradientAll(S, f, ix, 2, n, PETSC_TRUE, hv)
   PS_MUSL_DISPATCH_AXI(GRAD3, GRAD2, GRAD2A);
   PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
