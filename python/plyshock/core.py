@@ -215,9 +215,14 @@ def resources(scene, cs, markers=None, hosts=1, ranks=1):
     strength = any((scene.materials[i].strength or {}).get("type", "none") != "none" for i in scene.cell_materials)
     cell_dof = ncm * (3 + (PSC(dim) + 2 if strength else 0)) + 4 if ncm else 0
     cell_bytes = 8 * (2 * cells * cell_dof + nodes * (3 * dim + 1)) if ncm else 0
+    # velocity fields of bodies in contact (and plies with cohesive interfaces): per node and field
+    # the P2G/grid block (3 + 3 dim reals), the re-projection (dim) and the mass pass (1), plus a flag
+    nfield = scene.contact.layout(scene)["nfield"] if scene.contact is not None else 1
+    field_bytes = nodes * (8 * nfield * (4 + 4 * dim) + 1) if nfield >= 2 else 0
     return dict(cells=cells, nodes=nodes, entries=nodes * (1 + 2 * dim), index_max=int(np.iinfo(PETSc.IntType).max),
                 index_bits=8 * np.dtype(PETSc.IntType).itemsize, markers=markers, markers_estimated=estimated,
-                grid_bytes=nodes * _grid_bytes_per_node(dim) + cell_bytes, marker_bytes=markers * per_marker,
+                grid_bytes=nodes * _grid_bytes_per_node(dim) + cell_bytes + field_bytes, marker_bytes=markers * per_marker,
+                velocity_fields=nfield,
                 machine_bytes=machine_memory() * hosts, hosts=hosts, ranks=ranks)
 
 
@@ -225,7 +230,8 @@ def describe_resources(r):
     mib = 2.0 ** 20
     tot = r["grid_bytes"] + r["marker_bytes"]
     where = "this machine's" if r["hosts"] == 1 else f"{r['hosts']} machines'"
-    return (f"about {tot / mib:.1f} MiB (grid of {r['nodes']} nodes {r['grid_bytes'] / mib:.1f} MiB, "
+    fields = f", {r['velocity_fields']} velocity fields" if r.get("velocity_fields", 1) >= 2 else ""
+    return (f"about {tot / mib:.1f} MiB (grid of {r['nodes']} nodes{fields} {r['grid_bytes'] / mib:.1f} MiB, "
             f"{'at least ' if r['markers_estimated'] else ''}{r['markers']} markers {r['marker_bytes'] / mib:.1f} MiB) "
             f"of {where} {r['machine_bytes'] / mib:.0f} MiB")
 

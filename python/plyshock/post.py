@@ -272,8 +272,9 @@ def plot_history(outdir, png):
     for k in ("remap_heat", "coupling_work"):       # with cells: booked in internal (see docs/cells.md)
         if k in H.dtype.names:
             ax[0].plot(t, H[k], "--", label=k)
-    if "friction_work" in H.dtype.names and np.any(H["friction_work"] != 0):   # contact (docs/contact.md): in total
-        ax[0].plot(t, H["friction_work"], ":", label="friction_work")
+    for k in ("friction_work", "interface_energy"):   # contact and cohesive ply interfaces (docs/contact.md): in total
+        if k in H.dtype.names and np.any(H[k] != 0):
+            ax[0].plot(t, H[k], ":", label=k)
     ax[0].set_ylabel("energy (J; J/m in 2D)")
     for k in ("px", "py", "pz"):
         if k in H.dtype.names:
