@@ -11,9 +11,9 @@
   (split[b]: ply j of body b is field field[b] + j), and the pair of two
   adjacent plies' fields carries a cohesive law (coh, cohp).
 
-  Node layout of the field array g, per field k (fs = 3 + 3 dim reals):
-      P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip, V_k = sum_p N_ip V_p, (mD)_k = sum_p N_ip m_p D_p]
-      grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k, alpha_k, dD_i]   (shared nodes)
+  Node layout of the field array g, per field k (fs = 4 + 3 dim reals):
+      P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip, V_k = sum_p N_ip V_p, (mD)_k = sum_p N_ip m_p D_p, 0]
+      grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k, V_k, dD_i, alpha_k]   (shared nodes)
   (D_p: the marker's interface damage, cohesive scenes only; alpha_k the
   fraction of the way to the centre of mass the cohesive law moved field k,
   which the re-projection repeats; dD_i the damage increment of the node's
@@ -43,7 +43,7 @@ typedef struct PSContact_ {
   PetscInt  *coh;           /* nfield x nfield: the cohesive law between two fields (adjacent plies), -1 none */
   PetscInt   ncoh;          /* cohesive laws */
   PetscReal *cohp;          /* ncoh x 4: normal strength N (Pa), shear strength S (Pa), G_I, G_II (J/m^2) */
-  PetscInt   fs;            /* reals per field and node in g: 3 + 3 dim */
+  PetscInt   fs;            /* reals per field and node in g: 4 + 3 dim */
   PetscInt   gdof, hdof;    /* reals per node: nfield fs, nfield dim */
   PetscInt   nl;            /* nodes of a rank's ghosted local array */
   PetscReal *g, *h;         /* ghosted local arrays (layouts above) */
