@@ -57,13 +57,6 @@ static void ZeroBox(const PSIndex *ix, PetscReal *a, PetscInt dof, const PetscIn
     for (j = lo[1]; j < hi[1]; j++) memset(&a[dof * Lidx(ix, lo[0], j, k)], 0, sizeof(PetscReal) * dof * (hi[0] - lo[0]));
 }
 
-/* fields heavier than mass_min at a node of g: shared when >= 2 */
-static inline PetscInt HeavyFields(const PSContact *C, const PetscReal *gn, PetscReal mmin)
-{
-  PetscInt k, n = 0;
-  for (k = 0; k < C->nfield; k++) n += gn[k * C->fs] > mmin;
-  return n;
-}
 
 /* The field of marker p: its body's, or its ply's in a laminate with cohesive
    ply interfaces */
@@ -71,6 +64,23 @@ static inline PetscInt MarkerField(const PSContact *C, const PSFields *f, PetscI
 {
   const PetscInt b = f->body[p];
   return C->field[b] + (C->split[b] ? f->ply[p] : 0);
+}
+
+/* A cohesive pair's damage at a node: the mass-weighted mean of its two
+   fields' (Dk: each field's (mD)_k / m_k) */
+static inline PetscReal PairDamage(const PetscReal *m, const PetscReal *Dk, PetscInt a, PetscInt b)
+{
+  return PetscMin(1.0, PetscMax(0.0, (m[a] * Dk[a] + m[b] * Dk[b]) / (m[a] + m[b])));
+}
+
+/* A cohesive pair's interface area at a node, (|g_a| V_a/m_a + |g_b| V_b/m_b)/2:
+   the volume gradient of either ply, whose sum over a planar interface's nodes
+   is its area */
+static inline PetscReal PairArea(const PetscReal *m, const PetscReal (*gm)[3], const PetscReal *V, PetscInt a, PetscInt b)
+{
+  const PetscReal ga = PetscSqrtReal(gm[a][0] * gm[a][0] + gm[a][1] * gm[a][1] + gm[a][2] * gm[a][2]);
+  const PetscReal gb = PetscSqrtReal(gm[b][0] * gm[b][0] + gm[b][1] * gm[b][1] + gm[b][2] * gm[b][2]);
+  return 0.5 * (ga * V[a] / m[a] + gb * V[b] / m[b]);
 }
 
 /* The cohesive law between two adjacent plies' fields (Nairn, CMES 92, 2013,
@@ -181,11 +191,11 @@ static inline PetscBool Filled(const PSSolver *S, const PetscInt ip[3], const Pe
    conditions) at one node, with masses m[k], g[k] (layout above), nodal
    volumes V[k] and damage D[k]; returns the kinetic energy the tangential
    (friction) correction removed (J).  Cohesive pairs (CohesiveLaw): in the
-   grid phase (iwork != NULL) *iwork gets the energy the law took at the node
-   (CohesiveDamage; J), *Dnew the damage of the pair of the two heaviest
-   fields (-1: not a cohesive pair), and alpha_k[k] the fraction of the way to
-   v_cm that field k moved (1: stuck); in the re-projection (iwork == NULL)
-   alpha_k holds those fractions: a pair that stuck sticks again,
+   grid phase (iwork != NULL; Dk the fields' damage) *iwork gets the energy the
+   law took at the node (CohesiveDamage; J), *dD the damage increment of the
+   pair of the two heaviest fields (-1: not a cohesive pair), and alpha_k[k] the fraction of the way to
+   v_cm that field k moved (1: stuck); in the re-projection (iwork, Dk, dD
+   NULL) alpha_k holds those fractions: a pair that stuck sticks again,
    any other keeps each ply's own velocity (no interpenetration), so that L_p
    strains a ply by its own motion, not by the opening (measured on the
    mode-I spall, tests/test_cohesive.py: re-applying the fraction left
@@ -193,7 +203,7 @@ static inline PetscBool Filled(const PSSolver *S, const PetscInt ip[3], const Pe
    ply's own velocity everywhere made the intact interface 2% too energetic
    against bonded plies; this rule matches bonded plies while intact and
    keeps the total within 2%). */
-static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscInt ip[3], PetscReal dt, const PetscReal *m, const PetscReal (*gm)[3], const PetscReal *V, const PetscReal *Dk, PetscReal (*v)[3], PetscReal *alpha_k, PetscReal *iwork, PetscReal *Dnew, PetscInt *pair)
+static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscInt ip[3], PetscReal dt, const PetscReal *m, const PetscReal (*gm)[3], const PetscReal *V, const PetscReal *Dk, PetscReal (*v)[3], PetscReal *alpha_k, PetscReal *iwork, PetscReal *dD, PetscInt *pair)
 {
   const PetscInt dim = S->dim, nf = C->nfield;
   PetscReal      M = 0.0, vcm[3] = {0, 0, 0}, work = 0.0, nk[16][3], P0[3] = {0, 0, 0}, dP[3] = {0, 0, 0};
@@ -201,7 +211,7 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
   PetscBool      filled;
 
   if (iwork) *iwork = 0.0;
-  if (Dnew) *Dnew = -1.0;
+  if (dD) *dD = -1.0;
   for (k = 0; k < nf; k++) {
     if (m[k] <= S->mass_min) continue;
     M += m[k];
@@ -241,8 +251,7 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
       for (d = 0; d < dim; d++) n[d] = gm[k][d];
     for (d = 0; d < dim; d++) nn += n[d] * n[d];
     if (coh >= 0) { /* adjacent plies of a laminate with cohesive interfaces */
-      const PetscReal Dn = PetscMin(1.0, PetscMax(0.0, (m[k] * Dk[k] + m[other] * Dk[other]) / (m[k] + m[other])));
-      PetscReal       alpha;
+      PetscReal alpha;
       if (nn > 0.0) {
         nn = PetscSqrtReal(nn);
         for (d = 0; d < dim; d++) {
@@ -252,7 +261,7 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
         }
       }
       if (iwork) { /* the grid phase: the law */
-        const PetscReal A = 0.5 * (PetscSqrtReal(gk2) * V[k] / m[k] + PetscSqrtReal(gm[other][0] * gm[other][0] + gm[other][1] * gm[other][1] + gm[other][2] * gm[other][2]) * V[other] / m[other]);
+        const PetscReal Dn = PairDamage(m, Dk, k, other), A = PairArea(m, gm, V, k, other);
         if (!(nn > 0.0) || !(A > 0.0)) { /* no surface here: intact plies stay together */
           alpha = Dn < 1.0 ? 1.0 : 0.0;
           if (alpha > 0.0)
@@ -310,10 +319,9 @@ static PetscReal ContactLaw(const PSSolver *S, const PSContact *C, const PetscIn
   }
   /* the damage of the node's cohesive pair, its two heaviest fields, and the
      energy its law took */
-  if (Dnew && b >= 0 && C->coh && C->coh[a * nf + b] >= 0) {
-    const PetscReal Dn = PetscMin(1.0, PetscMax(0.0, (m[a] * Dk[a] + m[b] * Dk[b]) / (m[a] + m[b])));
-    const PetscReal A  = 0.5 * (PetscSqrtReal(gm[a][0] * gm[a][0] + gm[a][1] * gm[a][1] + gm[a][2] * gm[a][2]) * V[a] / m[a] + PetscSqrtReal(gm[b][0] * gm[b][0] + gm[b][1] * gm[b][1] + gm[b][2] * gm[b][2]) * V[b] / m[b]);
-    *Dnew              = (nk[a][0] != 0.0 || nk[a][1] != 0.0 || nk[a][2] != 0.0) ? CohesiveDamage(S, C, a, b, nk[a], Dn, A, dt, v, iwork) : Dn;
+  if (dD && b >= 0 && C->coh && C->coh[a * nf + b] >= 0) {
+    const PetscReal Dn = PairDamage(m, Dk, a, b);
+    *dD                = (nk[a][0] != 0.0 || nk[a][1] != 0.0 || nk[a][2] != 0.0) ? CohesiveDamage(S, C, a, b, nk[a], Dn, PairArea(m, gm, V, a, b), dt, v, iwork) - Dn : 0.0;
     pair[0]            = a;
     pair[1]            = b;
   }
@@ -330,7 +338,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
   PSContact     *C   = S->contact;
   const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1, fs = C->fs, nf = C->nfield;
-  PetscInt       p, a, b, c, d, e, lo[3], hi[3], i, j, k, nnear = 0;
+  PetscInt       p, a, b, c, d, e, lo[3], hi[3], i, j, k;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_ContactP2G, 0, 0, 0, 0));
@@ -384,7 +392,6 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
           }
     C->near[p] = nr;
     if (!nr) continue;
-    nnear++;
     for (d = 0; d < dim; d++) C->vold[p * dim + d] = v[d];
     ForceStress(dim, &f->sig[p * PSStressComponents(dim)], f->q[p], s);
     for (c = 0; c < nz; c++)
@@ -403,8 +410,6 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
           }
         }
   }
-  C->near_steps += nnear;
-  C->marker_steps += f->n;
   PetscCall(PetscLogEventEnd(PS_EV_ContactP2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -416,7 +421,7 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PSContact     *C   = S->contact;
   const PetscInt dim = S->dim, nf = C->nfield, fs = C->fs;
   PetscInt       a, b, c, k, d, lo[3], hi[3], pair[2];
-  PetscReal      m[16], gm[16][3], v[16][3], vo[16][3], V[16], D[16], al[16], iwork, Dnew, Dpair = 0.0;
+  PetscReal      m[16], gm[16][3], v[16][3], vo[16][3], V[16], D[16], al[16], iwork, dD;
 
   PetscFunctionBeginUser;
   PetscCall(PSHaloReduce(C->sfg, C->g));
@@ -425,9 +430,10 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
   for (c = lo[2]; c < hi[2]; c++)
     for (b = lo[1]; b < hi[1]; b++)
       for (a = lo[0]; a < hi[0]; a++) {
-        PetscReal     *gn    = &C->g[C->gdof * Lidx(ix, a, b, c)];
+        const PetscInt o     = Lidx(ix, a, b, c);
+        PetscReal     *gn    = &C->g[C->gdof * o];
         const PetscInt ip[3] = {a - S->pad, b - S->pad, dim == 3 ? c - S->pad : 0};
-        if (HeavyFields(C, gn, S->mass_min) < 2) continue; /* the single field serves this node */
+        if (!C->shared[o]) continue; /* the single field serves this node */
         for (k = 0; k < nf; k++) {
           PetscReal *gk = gn + k * fs;
           m[k]          = gk[0];
@@ -444,8 +450,7 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
           PSNodeBC(S, ip, v[k]);
           PSNodeBC(S, ip, gm[k]); /* a symmetry face mirrors the body: no gradient across it */
         }
-        C->friction_work += ContactLaw(S, C, ip, dt, m, (const PetscReal(*)[3])gm, V, D, v, al, &iwork, &Dnew, pair);
-        if (Dnew >= 0.0) Dpair = PetscMin(1.0, PetscMax(0.0, (m[pair[0]] * D[pair[0]] + m[pair[1]] * D[pair[1]]) / (m[pair[0]] + m[pair[1]])));
+        C->friction_work += ContactLaw(S, C, ip, dt, m, (const PetscReal(*)[3])gm, V, D, v, al, &iwork, &dD, pair);
         C->interface_energy += iwork;
         for (k = 0; k < nf; k++) {
           for (d = 0; d < dim; d++) {
@@ -453,7 +458,7 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
             gn[k * fs + 1 + dim + d] = v[k][d] - vo[k][d];
           }
           gn[k * fs + 3 + 3 * dim] = al[k]; /* the cohesive law's fraction alpha, for the re-projection */
-          gn[k * fs + 2 + 3 * dim] = Dnew >= 0.0 && (k == pair[0] || k == pair[1]) ? Dnew - Dpair : -1.0; /* the node's damage increment for G2P */
+          gn[k * fs + 2 + 3 * dim] = dD >= 0.0 && (k == pair[0] || k == pair[1]) ? dD : -1.0; /* the node's damage increment for G2P */
         }
       }
   PetscCall(PetscLogEventEnd(PS_EV_ContactGrid, 0, 0, 0, 0));
@@ -491,7 +496,7 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
           const PetscInt   o = Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0);
           const PetscReal  w = sh->w[0][a] * sh->w[1][b] * (dim == 3 ? sh->w[2][c] : 1.0);
           const PetscReal *cn = &C->g[C->gdof * o], *vn, *dn;
-          if (HeavyFields(C, cn, S->mass_min) >= 2) {
+          if (C->shared[o]) {
             vn = cn + k * fs + 1;
             dn = vn + dim;
             if (cn[k * fs + 2 + 3 * dim] >= 0.0) { /* a cohesive pair of this marker's ply meets here: its damage increment */
@@ -542,7 +547,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   const PetscInt dim = S->dim, nf = C->nfield, fs = C->fs, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1;
   const PetscInt hdof = PSReprojectDof(S), ho = hdof - dim;
   PetscInt       p, a, b, c, k, d, e, lo[3], hi[3];
-  PetscReal      m[16], gm[16][3], v[16][3], V[16], D[16], al[16];
+  PetscReal      m[16], gm[16][3], v[16][3], V[16], al[16];
 
   PetscFunctionBeginUser;
   PetscCall(PSHaloReduce(C->sfh, C->h));
@@ -554,11 +559,10 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
         const PetscInt   o = Lidx(ix, a, b, c), ip[3] = {a - S->pad, b - S->pad, dim == 3 ? c - S->pad : 0};
         const PetscReal *gn = &C->g[C->gdof * o];
         PetscReal       *hn = &C->h[C->hdof * o];
-        if (HeavyFields(C, gn, S->mass_min) < 2) continue;
+        if (!C->shared[o]) continue;
         for (k = 0; k < nf; k++) {
-          m[k] = gn[k * fs];
+          m[k]  = gn[k * fs];
           V[k]  = gn[k * fs + 1 + 3 * dim];
-          D[k]  = 0.0; /* not read: the re-projection repeats the grid phase's fractions */
           al[k] = gn[k * fs + 3 + 3 * dim];
           for (d = 0; d < 3; d++) v[k][d] = gm[k][d] = 0.0;
           if (m[k] <= S->mass_min) continue;
@@ -569,7 +573,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
           PSNodeBC(S, ip, v[k]);
           PSNodeBC(S, ip, gm[k]);
         }
-        (void)ContactLaw(S, C, ip, S->dt, m, (const PetscReal(*)[3])gm, V, D, v, al, NULL, NULL, NULL); /* not booked: sets L_p only */
+        (void)ContactLaw(S, C, ip, S->dt, m, (const PetscReal(*)[3])gm, V, NULL, v, al, NULL, NULL, NULL); /* not booked: sets L_p only */
         for (k = 0; k < nf; k++)
           for (d = 0; d < dim; d++) hn[k * dim + d] = v[k][d];
       }
@@ -587,7 +591,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
           const PetscInt   o = Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0);
           const PetscReal  wz = dim == 3 ? sh->w[2][c] : 1.0;
           const PetscReal  gN[3] = {sh->dw[0][a] * sh->w[1][b] * wz, sh->w[0][a] * sh->dw[1][b] * wz, dim == 3 ? sh->w[0][a] * sh->w[1][b] * sh->dw[2][c] : 0.0};
-          const PetscReal *vn = HeavyFields(C, &C->g[C->gdof * o], S->mass_min) >= 2 ? &C->h[C->hdof * o + k * dim] : &S->hv[hdof * o + ho];
+          const PetscReal *vn = C->shared[o] ? &C->h[C->hdof * o + k * dim] : &S->hv[hdof * o + ho];
           for (d = 0; d < dim; d++)
             for (e = 0; e < dim; e++) L[d][e] += vn[d] * gN[e];
         }

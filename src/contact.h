@@ -55,7 +55,6 @@ typedef struct PSContact_ {
   char      *near;          /* per marker: 1 if it touches a shared node (it takes the field kernels; the others the single field's) */
   PetscReal *vold;          /* per marker (dim): a near marker's velocity before G2P (the single field's G2P updates every marker first) */
   PetscInt   nnear;         /* capacity of near and vold (markers) */
-  PetscInt64 near_steps, marker_steps; /* markers that took the field kernels, and all, summed over steps (this rank) */
   PetscReal  friction_work; /* this rank's kinetic energy removed by the tangential correction, cumulative (J) */
   PetscReal  interface_energy; /* this rank's energy the cohesive laws took (dissipated in opening), cumulative (J) */
 } PSContact;
