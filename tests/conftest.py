@@ -76,6 +76,19 @@ def clean(err):
     return "Traceback" not in err and "HDF5-DIAG" not in err and "PETSC ERROR" not in err
 
 
+def histories_on_ranks(deck, tmpdir, ranks=(1, 2)):
+    """`plyshock run DECK -o TMPDIR/o<k>` on each rank count k (each must pass
+    cleanly): their history.csv tables, in the order of ranks."""
+    import numpy as np
+    hs = []
+    for k in ranks:
+        out = os.path.join(tmpdir, f"o{k}")
+        rc, so, se = run_cli(["run", deck, "-o", out], ranks=k)
+        assert rc == 0 and clean(se), se
+        hs.append(np.genfromtxt(os.path.join(out, "history.csv"), delimiter=",", names=True))
+    return hs
+
+
 @pytest.fixture(autouse=True)
 def _sync():
     """Ranks leave each test together; PETSc garbage is collected."""

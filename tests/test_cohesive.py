@@ -12,7 +12,7 @@ from mpi4py import MPI
 
 from plyshock import DeckError, Interface
 from plyshock import core
-from conftest import clean, run_cli, write_deck
+from conftest import clean, histories_on_ranks, run_cli, write_deck
 from helpers import gather
 
 from plyshock.verify_contact import G_I, spall, spall_stress   # the scenes, shared with plyshock verify --only contact
@@ -107,13 +107,7 @@ def test_one_and_two_ranks_agree_and_restart_is_bitwise(tmpdir_mpi):
     interface opens) then restarted on 2 ranks: the same checkpoint bitwise,
     interface damage and the interface energy's books included."""
     deck = write_deck(os.path.join(tmpdir_mpi, "spall.yaml"), _deck(spall(100e6, output_interval=0.6e-6)))
-    hs = []
-    for k in (1, 2):
-        out = os.path.join(tmpdir_mpi, f"o{k}")
-        rc, so, se = run_cli(["run", deck, "-o", out], ranks=k)
-        assert rc == 0 and clean(se), se
-        hs.append(history(out))
-    a, b = hs
+    a, b = histories_on_ranks(deck, tmpdir_mpi)
     assert len(a) == len(b) and a["interface_energy"][-1] > 0
     for n in ("time", "kinetic", "internal", "total", "interface_energy", "px"):
         scale = np.abs(a["kinetic"]).max() if n == "interface_energy" else np.abs(a[n]).max()
@@ -135,12 +129,14 @@ def test_one_and_two_ranks_agree_and_restart_is_bitwise(tmpdir_mpi):
     with h5py.File(os.path.join(full, "markers_00002.h5"), "r") as f:
         D = f["markers/interface_damage"][...]
         assert D.shape == f["markers/ply"].shape and D.max() == 1.0
+    with open(os.path.join(full, "markers.xdmf")) as f:                # ParaView sees it too
+        assert '<Attribute Name="interface_damage"' in f.read()
 
 
 def test_bad_interface_input_is_a_named_error(tmpdir_mpi):
     """Strengths <= 0, G <= 0, a missing constant, an unknown type or key,
-    constants on a bonded interface, a cohesive laminate bonded to another
-    body: a named error, exit 2, before any work."""
+    constants on a bonded interface, cohesive interfaces with apic, a cohesive
+    laminate bonded to another body: a named error, exit 2, before any work."""
     base = _deck(spall(100e6, t_end=1e-8))
     itf = base["bodies"][1]["laminate"]["interface"]
     cases = {
@@ -160,6 +156,9 @@ def test_bad_interface_input_is_a_named_error(tmpdir_mpi):
         rc, so, se = run_cli(["run", deck, "-o", os.path.join(tmpdir_mpi, name)], ranks=2)
         assert rc == 2 and clean(se) and f"plyshock: error: {words}" in se, (name, se)
         assert not os.path.exists(os.path.join(tmpdir_mpi, name, "history.csv")), name
+    d = dict(base, run=dict(base["run"], transfer="apic", shape="bspline2"))
+    rc, so, se = run_cli(["check", write_deck(os.path.join(tmpdir_mpi, "apic.yaml"), d)])
+    assert rc == 2 and "bodies[1].laminate.interface: cohesive ply interfaces need run.transfer: musl (got apic" in se, se
     d = dict(base, contact={"type": "bonded"})
     rc, so, se = run_cli(["check", write_deck(os.path.join(tmpdir_mpi, "bonded.yaml"), d)])
     assert rc == 2 and "bodies[1].laminate.interface: a laminate with cohesive ply interfaces cannot be bonded to other bodies" in se, se

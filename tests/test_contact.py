@@ -10,7 +10,7 @@ from mpi4py import MPI
 
 from plyshock import Body, Box, Contact, DeckError, Grid, Material, Run, Scene, Sphere  # noqa: F401
 from plyshock import core
-from conftest import clean, run_cli, write_deck
+from conftest import clean, histories_on_ranks, run_cli, write_deck
 
 from plyshock.verify_contact import AL, CU, V, slide, trap       # noqa: F401  the scenes, shared with plyshock verify --only contact
 from plyshock.verify_contact import bodies_csv as bodies        # {body name: its rows of bodies.csv}
@@ -138,13 +138,7 @@ def test_one_and_two_ranks_agree(tmpdir_mpi):
     """The sliding block on 1 and 2 ranks: the same history (energies, momentum,
     friction work) to 1e-9 of each column's scale."""
     deck = write_deck(os.path.join(tmpdir_mpi, "slide.yaml"), _deck(slide(0.3, t_end=2e-6)))
-    hs = []
-    for k in (1, 2):
-        out = os.path.join(tmpdir_mpi, f"o{k}")
-        rc, so, se = run_cli(["run", deck, "-o", out], ranks=k)
-        assert rc == 0 and clean(se), se
-        hs.append(history(out))
-    a, b = hs
+    a, b = histories_on_ranks(deck, tmpdir_mpi)
     assert len(a) == len(b) and a["friction_work"][-1] > 0
     for n in ("time", "kinetic", "internal", "total", "friction_work", "px", "py"):
         scale = np.abs(a["kinetic"]).max() if n in ("friction_work",) else np.abs(a[n]).max()

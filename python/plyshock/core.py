@@ -89,7 +89,13 @@ def run_options(scene):
     if scene.axisymmetric and params["transfer"] != "musl":
         raise DeckError("run.transfer", f"{params['transfer']} is not available with geometry: axisymmetric; allowed: musl "
                         "(the deck's run.transfer or the option -run_transfer)")
-    if params["transfer"] != "musl" and contact_fields(scene)[1] >= 2:
+    lay = scene.contact.layout(scene) if scene.contact is not None else None
+    if params["transfer"] != "musl" and lay is not None and lay["nfield"] >= 2:
+        split = [i for i, sp in enumerate(lay["split"]) if sp]
+        if split:      # a field per ply: the laminate's interfaces ask for it, not (only) the contact section
+            raise DeckError(f"bodies[{split[0]}].laminate.interface", f"cohesive ply interfaces need run.transfer: musl "
+                            f"(got {params['transfer']}; the fields are implemented for MUSL only); set run.transfer: musl, "
+                            "or interface: {type: bonded}")
         raise DeckError("contact", f"friction needs run.transfer: musl (got {params['transfer']}; multi-field contact "
                         "is implemented for MUSL only); set run.transfer: musl, or contact: {type: bonded}")
     return params
@@ -676,7 +682,7 @@ def write_xdmf_series(outdir, dim, scene):
                 continue
             if k == "damage" and len(keys[k]) == 2:      # a ply's four damage variables
                 attrs.append(f'<Attribute Name="{k}" AttributeType="Matrix" Center="Node">{item("/markers/" + k, f"{n} {keys[k][1]}")}</Attribute>')
-            elif k in ("mass", "volume", "pressure", "energy", "plastic_strain", "temperature", "damage"):
+            elif k in ("mass", "volume", "pressure", "energy", "plastic_strain", "temperature", "damage", "interface_damage"):
                 attrs.append(f'<Attribute Name="{k}" AttributeType="Scalar" Center="Node">{item("/markers/" + k, n)}</Attribute>')
             elif k in ("id",):
                 attrs.append(f'<Attribute Name="{k}" AttributeType="Scalar" Center="Node">{item("/markers/" + k, n, "Int", 8)}</Attribute>')
