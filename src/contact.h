@@ -11,13 +11,14 @@
   (split[b]: ply j of body b is field field[b] + j), and the pair of two
   adjacent plies' fields carries a cohesive law (coh, cohp).
 
-  Node layout of the field array g, per field k (fs = 4 + 3 dim reals):
-      P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip, V_k = sum_p N_ip V_p, (mD)_k = sum_p N_ip m_p D_p, 0]
-      grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k, V_k, dD_i, alpha_k]   (shared nodes)
-  (D_p: the marker's interface damage, cohesive scenes only; alpha_k the
-  fraction of the way to the centre of mass the cohesive law moved field k,
-  which the re-projection repeats; dD_i the damage increment of the node's
-  cohesive pair this step, -1 for fields not in one)
+  Node layout of the field array g, per field k (fs = 4 + 4 dim reals):
+      P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip, V_k = sum_p N_ip V_p, (m psi)_k = sum_p N_ip m_p psi_p, 0, 0]
+      grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k, V_k, dpsi_i, alpha_k, dv_f,k]   (shared nodes)
+  (psi_p = (1 - D_p)^2 from the marker's interface damage D_p, cohesive scenes
+  only; alpha_k the fraction of the way to the centre of mass the cohesive law
+  moved field k, which the re-projection repeats; dpsi_i the decrement of psi
+  of the node's cohesive pair this step, -1 for fields not in one; dv_f,k the
+  friction's tangential correction, which G2P books at the markers)
   and of the re-projection array h, per field k (dim reals):
       [(mv)_k] -> [v_k] (shared nodes).
   A node is shared when two or more fields carry more than mass_min there; only
@@ -43,7 +44,7 @@ typedef struct PSContact_ {
   PetscInt  *coh;           /* nfield x nfield: the cohesive law between two fields (adjacent plies), -1 none */
   PetscInt   ncoh;          /* cohesive laws */
   PetscReal *cohp;          /* ncoh x 4: normal strength N (Pa), shear strength S (Pa), G_I, G_II (J/m^2) */
-  PetscInt   fs;            /* reals per field and node in g: 4 + 3 dim */
+  PetscInt   fs;            /* reals per field and node in g: 4 + 4 dim */
   PetscInt   gdof, hdof;    /* reals per node: nfield fs, nfield dim */
   PetscInt   nl;            /* nodes of a rank's ghosted local array */
   PetscReal *g, *h;         /* ghosted local arrays (layouts above) */
@@ -55,7 +56,7 @@ typedef struct PSContact_ {
   char      *near;          /* per marker: 1 if it touches a shared node (it takes the field kernels; the others the single field's) */
   PetscReal *vold;          /* per marker (dim): a near marker's velocity before G2P (the single field's G2P updates every marker first) */
   PetscInt   nnear;         /* capacity of near and vold (markers) */
-  PetscReal  friction_work; /* this rank's kinetic energy removed by the tangential correction, cumulative (J) */
+  PetscReal  friction_work; /* this rank's kinetic energy the tangential corrections took from its markers, cumulative (J) */
   PetscReal  interface_energy; /* this rank's energy the cohesive laws took (dissipated in opening), cumulative (J) */
 } PSContact;
 

@@ -62,11 +62,13 @@ def test_sliding_block_loses_tangential_momentum_by_coulombs_bound(tmpdir_mpi):
     (dv_y +19.2 m/s) and its -dv_x / dv_y is mu within 3% (measured 0.2996);
     frictionless it does not slow (|dv_x| < 0.1% of 20 m/s, measured 4e-5 m/s),
     and no friction work is booked.  Energy: total = kinetic + internal +
-    friction_work; frictionless it stays within 1% (measured 0.45%); with
-    friction the booked work (2.02 J/m) exceeds what kinetic + internal lose
-    (about 1.8 J/m): total rises 5.0% (bound 6%).  The books count the kinetic
-    energy the tangential correction removes at the nodes; the markers' FLIP
-    update loses less."""
+    friction_work; frictionless it stays within 1% (measured 0.07%); with
+    friction the markers book the kinetic energy the tangential corrections
+    took from them (1.87 J/m, each step's book of either sign by round-off
+    once the block has left: the book may not fall by more than 1e-6 of
+    itself), and the total rises 2.0% (bound 3%; 5.0% when the nodes booked
+    their own m |dv|^2, which the markers' FLIP update does not lose in
+    full)."""
     res = {}
     for mu in (0.3, 0.0):
         out = os.path.join(tmpdir_mpi, f"mu{mu}")
@@ -77,9 +79,10 @@ def test_sliding_block_loses_tangential_momentum_by_coulombs_bound(tmpdir_mpi):
     dvx, dvy, H = res[0.3]
     assert dvy > 10.0, dvy                                  # it bounced off the plate
     assert abs(-dvx / dvy - 0.3) <= 0.03 * 0.3, (dvx, dvy)
-    assert H["friction_work"][-1] > 0 and np.all(np.diff(H["friction_work"]) >= 0)
+    W = H["friction_work"]
+    assert W[-1] > 0 and np.all(np.diff(W) >= -1e-6 * W[-1]), np.diff(W).min()
     drift = np.max(np.abs(H["total"] - H["total"][0])) / H["total"][0]
-    assert drift < 0.06, drift
+    assert drift < 0.03, drift
     dvx0, dvy0, H0 = res[0.0]
     assert dvy0 > 10.0 and abs(dvx0) < 0.001 * 20.0, (dvx0, dvy0)
     assert np.all(H0["friction_work"] == 0.0)

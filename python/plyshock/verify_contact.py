@@ -15,6 +15,11 @@ verify_contact.png.  The scenes are also those of tests/test_contact.py.
            the reflected pulse pulls with), in uniaxial strain; once the
            interface is open the traction-separation law has taken G_I per unit
            of area: error |interface_energy / (G_I A) - 1|.
+  mode II  a lap-shear strip (lap_shear): a flyer strikes the lower of two
+           5 mm aluminium plies, the shear runs a crack along the cohesive
+           interface (S = 10 MPa, G_II = 20 J/m^2); once the whole strip is
+           open the law has taken G_II per unit of length: error
+           |interface_energy / (G_II L) - 1|.
 SI units.
 """
 import os
@@ -29,6 +34,8 @@ V = 100.0          # the trap's flyer speed (m/s)
 MU = 0.3           # the sliding block's friction coefficient
 SPALL_V = 20.0     # the mode-I flyer's speed (m/s)
 G_I = 50.0         # the mode-I interface's fracture energy (J/m^2)
+G_II = 20.0        # the lap shear's mode-II fracture energy (J/m^2)
+LAP_V = 50.0       # the lap shear's flyer speed (m/s)
 
 
 def spall_stress(v=SPALL_V):
@@ -53,6 +60,22 @@ def spall(strength, G=G_I, h=25e-6, d=1e-3, v=SPALL_V, t_end=1.2e-6, interface="
     L = x0 + 3 * d + 2e-3
     return Scene(2, Grid([0.0, 0.0], [L, W], [round(L / h), 4], {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}),
                  [AL], bs, Run(t_end=t_end, output_interval=output_interval, history_interval=1)).validate()
+
+
+def lap_shear(h=50e-6, S=10e6, G=G_II, v=LAP_V, L=5e-3, t=0.5e-3, t_end=3e-6, output_interval=0.0):
+    """Mode II: a lap-shear strip.  Two aluminium plies (length L, thickness t
+    each) stacked along y on a symmetry face, a cohesive interface between them
+    (shear strength S, G_II = G, normal strength 1 GPa so that only shear
+    opens it); an aluminium flyer (1 mm x t, at v along x) strikes the lower
+    ply's end only, and the shear the lower ply's motion puts on the interface
+    runs a crack along it from the struck end."""
+    x0 = 2e-3
+    lam = Laminate(Frame([x0, 0.0], [x0, 1.0], [x0 + 1.0, 0.0]), [L], [Ply("al", t), Ply("al", t)], Interface("cohesive", 1e9, S, 4 * G, G))
+    bs = [Body("flyer", box=Box([x0 - 1e-3, 0.0], [x0, t]), material="al", velocity=[v, 0.0], subdivision=2),
+          Body("laminate", laminate=lam, subdivision=2)]
+    W, Ly = x0 + L + 1e-3, 2 * t + 1e-3
+    return Scene(2, Grid([0.0, 0.0], [W, Ly], [round(W / h), round(Ly / h)], {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "free"}),
+                 [AL], bs, Run(t_end=t_end, output_interval=output_interval, history_interval=10)).validate()
 
 
 def trap(contact, t_end=1.5e-6, h=50e-6, d=1e-3):
@@ -91,7 +114,7 @@ def _run(scene):
 
 
 def contact_study(print0, quick=False):
-    """The trap and the sliding block at several resolutions: rows for verify_contact.csv."""
+    """The trap, the sliding block and the cohesive modes I and II at several resolutions: rows for verify_contact.csv."""
     rows = []
     _run(trap(None, h=100e-6))          # a warm-up run, not timed (the first run pays for the solver's setup)
     for h in ((100e-6, 50e-6) if quick else (100e-6, 50e-6, 25e-6)):
@@ -116,6 +139,14 @@ def contact_study(print0, quick=False):
         rows.append(dict(problem="mode I", size=h, steps=S.step_count, wall_s=wall, error=e))
         print0(f"mode I   h {h * 1e6:5.1f} um  steps {S.step_count:5d}  wall {wall:6.2f} s  interface energy {took:.4f} G_I A  "
                f"total drift {100 * (H['total'][-1] / H['total'][0] - 1):+.2f}%  error {e:.3e}")
+    for h in ((100e-6, 50e-6) if quick else (100e-6, 50e-6, 25e-6)):
+        from .verify import run_scratch
+        H, wall, _, S = run_scratch(lap_shear(h=h), _history)
+        took = H["interface_energy"][-1] / (G_II * 5e-3)
+        e = abs(took - 1)
+        rows.append(dict(problem="mode II", size=h, steps=S.step_count, wall_s=wall, error=e))
+        print0(f"mode II  h {h * 1e6:5.1f} um  steps {S.step_count:5d}  wall {wall:6.2f} s  interface energy {took:.4f} G_II L  "
+               f"total drift {100 * (H['total'][-1] / H['total'][0] - 1):+.2f}%  error {e:.3e}")
     return rows
 
 
@@ -128,11 +159,12 @@ def plot_contact(rows, png):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
+    fig, ax = plt.subplots(1, 4, figsize=(19, 4.2))
     titles = {"trap": "momentum trap: (|v_rear - V| + |v_front| + |v_flyer|) / V",
               "coulomb": f"sliding block: |(-dv_t / dv_n) - mu| / mu, mu = {MU}",
-              "mode I": "cohesive mode I (spall): |interface energy / (G_I A) - 1|"}
-    for a, prob in zip(ax, ("trap", "coulomb", "mode I")):
+              "mode I": "cohesive mode I (spall): |interface energy / (G_I A) - 1|",
+              "mode II": "cohesive mode II (lap shear): |interface energy / (G_II L) - 1|"}
+    for a, prob in zip(ax, ("trap", "coulomb", "mode I", "mode II")):
         rs = [r for r in rows if r["problem"] == prob]
         a.loglog([r["wall_s"] for r in rs], [max(r["error"], 1e-16) for r in rs], "o-")
         for r in rs:
