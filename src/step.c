@@ -11,6 +11,7 @@
                 cells/lagrange.c  cells' nodal mass, momentum, force (same nodes)
     grid        grid.c            ghost sums, v_i with the boundary conditions, ghosts back
     contact     contact.c         (bodies in contact) each field's v_i, the contact law where fields meet
+    predict     cells/lagrange.c  the cells' half-step state and force; v_i corrected by its change
     G2P         transfer_*.c      markers' velocity and displacement (musl: re-projection)
                 contact.c         (bodies in contact) redone for the markers near shared nodes, from their field
     Lagrange    cells/lagrange.c  cells deform with the nodal velocity: closure, EOS, strength
@@ -64,6 +65,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   if (S->cells) PetscCall(PSCellsToGrid(S, &ix, dt));
   PetscCall(PSGridSolve(S, &ix, dt));
   if (S->contact) PetscCall(PSContactGridSolve(S, &ix, dt));
+  if (S->cells) PetscCall(PSCellsPredict(S, &ix, dt)); /* the cells' half-step force, v^{n+1} corrected */
   if (musl) PetscCall(PSMUSLG2P(S, &f, &ix, dt)); /* with contact too: contact.c redoes the markers near shared nodes */
   else PetscCall(PSAPICG2P(S, &f, &ix, dt));
   if (S->contact) PetscCall(PSContactG2P(S, &f, &ix, dt));

@@ -77,8 +77,9 @@ def test_cell_bodies_are_inserted_exactly(tmpdir_mpi):
 def test_sod_shock_tube_matches_the_exact_solution(tmpdir_mpi):
     """Sod in cells against the exact Riemann solution at t = 0.2 (200 cells):
     density L1 error under 1.5% of the jump, star pressure and velocity within
-    1%, the contact one mixed cell wide at its exact place; mass to round-off;
-    the walls' impulse (p_L - p_R) t A is exactly the momentum gained."""
+    1%, the contact one mixed cell wide at its exact place; mass and total
+    energy to round-off; the walls' impulse (p_L - p_R) t A is exactly the
+    momentum gained."""
     scene = sod(200)
     run_scene(scene, tmpdir_mpi)
     c, t, mats = cells_at(tmpdir_mpi, 2)
@@ -102,8 +103,10 @@ def test_sod_shock_tube_matches_the_exact_solution(tmpdir_mpi):
     assert abs(H["mass"][-1] - H["mass"][0]) <= 1e-13 * H["mass"][0]
     assert abs(H["px"][-1] - 0.9 * 0.2 * 4 / 200) <= 1e-12
     assert abs(H["py"]).max() <= 1e-15
-    # total energy: the remap's kinetic-energy fix conserves it; the Lagrangian phase within 0.3%
-    assert abs(H["total"][-1] - H["total"][0]) < 3e-3 * H["total"][0]
+    # total energy to round-off: the Lagrangian phase's predictor-corrector is
+    # compatible and the remap's kinetic-energy fix conserves it (measured 0 on
+    # 1 and 2 ranks; 0.1% with the symplectic step before it)
+    assert np.max(np.abs(H["total"] - H["total"][0])) <= 1e-12 * H["total"][0]
 
 
 def test_cells_on_one_and_two_ranks_and_restarts(tmpdir_mpi):
@@ -280,6 +283,56 @@ def test_gas_charge_drives_a_plate_on_markers(tmpdir_mpi):
     B = np.genfromtxt(os.path.join(tmpdir_mpi, "bodies.csv"), delimiter=",", names=True, dtype=None, encoding=None)
     v = B["vx"][B["body"] == "plate"]
     assert v[-1] > 100.0 and np.all(np.diff(v[len(v) // 2:]) > -1.0), v
+
+
+def charge_in_a_box(dim, n, one_material, t_end=3e-6):
+    """A gas charge (50 MPa, radius 4 mm, centred on the box's corner) in air at
+    1 bar, in a closed box of 20 mm (symmetry faces all round); the charge is
+    air too (one material) or a gas of its own (50 kg/m^3, two materials)."""
+    L = 20e-3
+    walls = {f: "symmetry" for f in ("x-", "x+", "y-", "y+", "z-", "z+")[:2 * dim]}
+    mats = [gas("air", 1.225)] + ([] if one_material else [gas("hp", 50.0)])
+    return Scene(dim, Grid([0.0] * dim, [L] * dim, [n] * dim, walls), mats,
+                 [Body("air", box=Box([0.0] * dim, [L] * dim), material="air", representation="cells", pressure=101325.0),
+                  Body("charge", sphere=Sphere([0.0] * dim, 4e-3), material="air" if one_material else "hp", representation="cells",
+                       pressure=50e6, priority=1)],
+                 Run(t_end=t_end, output_interval=0.0, history_interval=1)).validate()
+
+
+@pytest.mark.parametrize("dim,n", [(2, 40), (3, 16)])
+def test_lagrangian_phase_is_energy_compatible(tmpdir_mpi, dim, n):
+    """The predictor-corrector of the cells' force (lagrange.c, Caramana et
+    al. 1998): the nodes' kinetic energy gains exactly the work the cells'
+    energies give up, and the remap's kinetic-energy fix keeps the total, so a
+    gas charge in a closed box keeps its total energy to round-off at every
+    step: one material (no mixed cell relaxes), on one rank 1e-12 of it
+    (measured 0).  Before it (force at t^n, faces moved with v^{n+1}) the
+    charge lost as much energy in its first step as its gas gained kinetic
+    energy: 2D -0.7% in the first step and -1.8% by 1 us, 3D -2.9% and -7.8%.
+    On two ranks the total drifts once the blast reaches the ranks' boundary
+    (measured 2e-6 in 2D, 2e-7 in 3D; bound 1e-5): the 1- and 2-rank runs part
+    there at 1e-13 and the gap grows, with the step before this one too, an
+    inconsistency at the boundary that is not found yet.  With the charge a gas
+    of its own the mixed cells' relaxation exchanges volume at one pressure p*
+    (closure.c), and the total stays within 1e-3 in 2D (measured 2.9e-4) and
+    5e-3 in 3D (2.9e-3; the symplectic step: -1.8% and -7.8%): what is left is
+    the mixed cells' sharing (its clamps), not yet exactly compatible."""
+    from conftest import histories_on_ranks, write_deck
+    import yaml
+    for one in (True, False):
+        sub = os.path.join(tmpdir_mpi, f"one{one}")
+        if COMM.rank == 0:
+            os.makedirs(sub, exist_ok=True)
+        deck = write_deck(os.path.join(sub, "charge.yaml"), yaml.safe_load(charge_in_a_box(dim, n, one).to_yaml()))
+        ranks = (1, 2) if one else (2,)
+        for k, H in zip(ranks, histories_on_ranks(deck, sub, ranks)):
+            assert len(H) > 10 and H["kinetic"][-1] > 0.1 * H["total"][0]         # the charge has expanded
+            assert H["lost_energy"][-1] == 0.0 or not one                          # (two materials: traces discarded, booked)
+            drift = np.max(np.abs(H["total"] - H["total"][0])) / H["total"][0]
+            bound = (1e-3 if dim == 2 else 5e-3) if not one else (1e-12 if k == 1 else 1e-5)
+            assert drift < bound, (one, k, drift)
+            if COMM.rank == 0:
+                print(f"\n{dim}D charge in a box, {'one material' if one else 'two materials'}, {k} rank(s): {len(H) - 1} steps, total energy within {drift:.1e}")
 
 
 @pytest.mark.parametrize("change,path,words", [

@@ -105,6 +105,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->P));
   PetscCall(PetscFree((*C)->Pn));
   PetscCall(PetscFree2((*C)->mcn, (*C)->vh));
+  PetscCall(PetscFree3((*C)->hs, (*C)->vo, (*C)->df));
   PetscCall(PetscSFDestroy(&(*C)->sfu));
   PetscCall(PetscSFDestroy(&(*C)->sfd));
   PetscCall(PetscFree((*C)->dep));

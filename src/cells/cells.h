@@ -65,6 +65,9 @@ typedef struct PSCells_ {
   PetscReal *Pn;                  /* scratch of the same size */
   PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
   PetscReal *vh;                  /* the nodal velocity that moves the cells' faces this step, dim per node */
+  PetscReal *vo;                  /* the nodal velocity at t^n (PSCellsPredict), dim per node */
+  PetscReal *df;                  /* the corrector's change of the cells' nodal force, dim per node */
+  PetscReal *hs;                  /* per owned cell: the predictor's half-step values (lagrange.c) */
   PetscSF   sfp;                  /* ghost exchange of P (halo.c) */
   PetscInt  nnl;                  /* local nodes */
   PetscReal Vc;                   /* cell volume (m^3; m^2 in 2D) */
@@ -88,6 +91,7 @@ PETSC_INTERN PetscErrorCode PSCellsCreate(PSSolver *, const PSMaterial *);
 PETSC_INTERN PetscErrorCode PSCellsDestroy(PSCells **);
 PETSC_INTERN PetscErrorCode PSCellsInsert(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsToGrid(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSCellsPredict(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsLagrange(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsRemap(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *, PetscBool fit);

@@ -19,7 +19,10 @@
      dV_k += chi_k (p_k' - p*).  The step is limited so no material loses
      more than half its volume and void never goes negative; a gas next to
      copper (K 1e5 against 1e11 Pa, density ratio 1e4) then relaxes over a few
-     steps instead of crushing the gas in one.
+     steps instead of crushing the gas in one.  The relaxation's exchange
+     (dVr, summing to zero without void) is work at the one pressure p*, so
+     it moves energy between the materials and makes none (into void, p* = 0:
+     a free expansion); the Lagrangian phase books it so.
   The markers take no part in the relaxation: their pressure is their own.
 
   PSCellsFitMarkers runs after the markers move: their volume in each cell
@@ -95,7 +98,7 @@ PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec)
   return sc > 0.0 ? sp / sc : 0.0;
 }
 
-PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscReal dV, PetscReal dVk[])
+PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
 {
   const PSCells  *C  = S->cells;
   const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
@@ -104,9 +107,11 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const P
   PetscBool       hasvoid;
 
   PetscFunctionBeginUser;
+  if (pr) *pr = 0.0;
   for (m = 0; m < C->nmat; m++) {
     const PetscReal *blk = &u[m * C->ms];
     dVk[m] = chi[m] = p[m] = 0.0;
+    if (dVr) dVr[m] = 0.0;
     if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
     chi[m] = ec[PS_EC * m + 2];
     p[m]   = ec[PS_EC * m];
@@ -151,7 +156,12 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const P
   /* void cannot go negative (without void the shifts sum to zero) */
   if (hasvoid && sumd > 0.0 && V0 < theta * sumd) theta = V0 / sumd;
   for (m = 0; m < C->nmat; m++)
-    if (chi[m] > 0.0) dVk[m] += theta * chi[m] * (p[m] - dVk[m] / chi[m] - pstar);
+    if (chi[m] > 0.0) {
+      const PetscReal r = theta * chi[m] * (p[m] - dVk[m] / chi[m] - pstar);
+      dVk[m] += r;
+      if (dVr) dVr[m] = r;
+    }
+  if (pr) *pr = pstar;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
