@@ -62,11 +62,12 @@ def test_sliding_block_loses_tangential_momentum_by_coulombs_bound(tmpdir_mpi):
     (dv_y +19.2 m/s) and its -dv_x / dv_y is mu within 3% (measured 0.2996);
     frictionless it does not slow (|dv_x| < 0.1% of 20 m/s, measured 4e-5 m/s),
     and no friction work is booked.  Energy: total = kinetic + internal +
-    friction_work; frictionless it stays within 1% (measured 0.07%); with
+    friction_work; frictionless it stays within 2% (measured -1.0% at the end,
+    1.2% at most; -0.5% at half the cell: contact's inelastic loss); with
     friction the markers book the kinetic energy the tangential corrections
     took from them (1.87 J/m, each step's book of either sign by round-off
     once the block has left: the book may not fall by more than 1e-6 of
-    itself), and the total rises 2.0% (bound 3%; 5.0% when the nodes booked
+    itself), and the total ends +0.6% (bound 3%; +5.0% when the nodes booked
     their own m |dv|^2, which the markers' FLIP update does not lose in
     full)."""
     res = {}
@@ -87,7 +88,7 @@ def test_sliding_block_loses_tangential_momentum_by_coulombs_bound(tmpdir_mpi):
     assert dvy0 > 10.0 and abs(dvx0) < 0.001 * 20.0, (dvx0, dvy0)
     assert np.all(H0["friction_work"] == 0.0)
     drift0 = np.max(np.abs(H0["total"] - H0["total"][0])) / H0["total"][0]
-    assert drift0 < 0.01, drift0
+    assert drift0 < 0.02, drift0
     if COMM.rank == 0:
         print(f"\nsliding block: mu 0.3: dv_x {dvx:.3f}, dv_y {dvy:.3f} m/s, -dv_x/dv_y {-dvx / dvy:.4f}; "
               f"friction work {H['friction_work'][-1]:.4g} J/m, total drift {100 * drift:.2f}%; "
@@ -97,10 +98,13 @@ def test_sliding_block_loses_tangential_momentum_by_coulombs_bound(tmpdir_mpi):
 def test_energy_books_of_contact(tmpdir_mpi):
     """total = kinetic + internal + lost + friction_work (+ interface_energy, 0).
     What the contact does not conserve, measured and bounded here (the normal
-    correction at nodes where fields meet exchanges the fields' nodal momenta;
-    it is not booked): the trap's total rises 1.6% (bound 3%), Sulsky's disks
-    in contact gain 7.2% (bound 10%; their rebound speed is 96.5% of the impact
-    speed; in one field, bonded, they lose about 1%).  Momentum: the contact
+    correction at nodes where fields meet exchanges the fields' nodal momenta,
+    an inelastic loss of first order in h; not booked): the trap's total falls
+    2.1% (bound 3%), Sulsky's disks in contact end 4.1% below (bound 6%; -2.0%
+    at 80 cells; their rebound speed is 88% of the impact speed, 90% at 80
+    cells).  While the re-projection re-decided the contact on its own
+    velocities, the disks gained 7.2% (rebound 96.5%) and a 2D impact's total
+    did not fall with h.  Momentum: the contact
     conserves it (with run.mass_threshold 0 the disks' momenta cancel to
     round-off, measured 4e-14 kg m/s); with the default threshold they drift to
     8.5e-5 of one disk's (bound 2e-4): the grid update drops the force on nodes
@@ -124,8 +128,8 @@ def test_energy_books_of_contact(tmpdir_mpi):
     H = history(out)
     gain = H["total"][-1] / H["total"][0] - 1
     d1 = bodies(out)["d1"]
-    assert d1["vx"][-1] < -0.09                             # bounced back at about the impact speed
-    assert abs(gain) < 0.10, gain
+    assert d1["vx"][-1] < -0.085                            # bounced back at most of the impact speed
+    assert abs(gain) < 0.06, gain
     assert np.max(np.abs(H["px"])) < 2e-4 * 1000 * np.pi * 0.04 * 0.1
     disks.run.mass_threshold = 0.0
     out = os.path.join(tmpdir_mpi, "disks0")
@@ -233,9 +237,9 @@ def test_bodies_closing_a_gap_keep_their_energy(tmpdir_mpi):
     share the nodes between them a cell before they touch, where the approach
     check alone let them meet early and created energy (the flyer rebounded at
     -31 m/s, total +55%).  The fields now touch only where their volumes fill
-    the node (contact.c, Filled): total within 3% (measured -1.1%; starting in
-    contact +0.9%); the flyer rebounds at -14.1 m/s as it does when it starts
-    in contact (-14.7 m/s), momentum is kept, and the bodies' mean motions
+    the node (contact.c, Filled): total within 4% (measured -2.7%; starting in
+    contact -2.0%: contact's inelastic loss); the flyer rebounds at -13.7 m/s as
+    it does when it starts in contact (-13.8 m/s), momentum is kept, and the bodies' mean motions
     hold no more kinetic energy than the flyer brought."""
     h, v0, x0 = 50e-6, 50.0, 2e-3
     res = {}
@@ -248,7 +252,7 @@ def test_bodies_closing_a_gap_keep_their_energy(tmpdir_mpi):
         run_scene(sc, out)
         H, B = history(out), bodies(out)
         res[gap] = (H["total"][-1] / H["total"][0] - 1, B["flyer"]["vx"][-1], B["plate"]["vx"][-1])
-        assert abs(res[gap][0]) < 0.03, (gap, res[gap])
+        assert abs(res[gap][0]) < 0.04, (gap, res[gap])
         # momentum: the flyer's, shared; kinetic energy of the two bodies' mean motions at most the start's
         mf, mp = 1.0, 10.0                                    # the plate has ten times the flyer's mass
         assert abs(mf * res[gap][1] + mp * res[gap][2] - mf * v0) < 1e-6 * v0

@@ -133,16 +133,18 @@ def test_spall_opens_where_the_release_waves_meet(tmpdir_mpi):
 
 def test_tantalum_impact_at_4_km_per_s(tmpdir_mpi):
     """A 1 mm tantalum flyer onto a tantalum plate at 4 km/s (about 190 GPa):
-    runs without NaN or inverted markers, mass exact, energy drift under 2.5%
+    runs without NaN or inverted markers, mass exact, energy drift under 3.5%
     at cfl 0.1.  The drift is the time step's (first order: 6.1% at cfl 0.4,
-    3.3% at 0.2, 1.7% at 0.1; the shape functions do not change it)."""
+    3.3% at 0.2, 1.7% at 0.1 measured bonded; the shape functions do not change
+    it; bonded now -1.24%) and the contact's between flyer and plate, an
+    inelastic loss of first order in h (in contact -2.54%; docs/contact.md)."""
     h = 25e-6
     ta = Material("ta", **TA)
     bodies = [Body("flyer", box=Box([0.001, 0.0], [0.002, 3 * h]), material="ta", velocity=[4000.0, 0.0]),
               Body("plate", box=Box([0.002, 0.0], [0.004, 3 * h]), material="ta")]
     H = run(strip(0.006, h, bodies, [ta], Run(t_end=0.6e-6, cfl=0.1, history_interval=50)), tmpdir_mpi)
     assert H["max_pressure"].max() > 1.5e11
-    drift = conserved(H, 0.025)
+    drift = conserved(H, 0.035)
     if COMM.rank == 0:
         print(f"\ntantalum at 4 km/s: peak {H['max_pressure'].max() / 1e9:.0f} GPa, {int(H['step'][-1])} steps, "
               f"energy drift {100 * drift:.2f}%")
@@ -150,14 +152,15 @@ def test_tantalum_impact_at_4_km_per_s(tmpdir_mpi):
 
 def test_a_12_to_1_density_contrast(tmpdir_mpi):
     """A tantalum flyer (16690 kg/m^3) through epoxy (1198 kg/m^3, 13.9:1)
-    at 1 km/s onto a tantalum backing: mass exact, energy drift under 2.5% at
-    cfl 0.1 (5.9% at 0.4, 3.4% at 0.2, 1.8% at 0.1: the time step's)."""
+    at 1 km/s onto a tantalum backing: mass exact, energy drift under 3.5% at
+    cfl 0.1 (5.9% at 0.4, 3.4% at 0.2, 1.8% at 0.1: the time step's, measured
+    bonded; the bodies in contact 2.09%: contact's inelastic loss added)."""
     h = 25e-6
     mats = [Material("ta", **TA), Material("epoxy", **EPOXY)]
     bodies = [Body("flyer", box=Box([0.0005, 0.0], [0.0015, 3 * h]), material="ta", velocity=[1000.0, 0.0]),
               Body("epoxy", box=Box([0.0015, 0.0], [0.003, 3 * h]), material="epoxy"),
               Body("backing", box=Box([0.003, 0.0], [0.004, 3 * h]), material="ta")]
     H = run(strip(0.005, h, bodies, mats, Run(t_end=1.0e-6, cfl=0.1, history_interval=50)), tmpdir_mpi)
-    drift = conserved(H, 0.025)
+    drift = conserved(H, 0.035)
     if COMM.rank == 0:
         print(f"\n13.9:1 density contrast: {int(H['step'][-1])} steps, energy drift {100 * drift:.2f}%")
