@@ -66,6 +66,38 @@ static inline PetscInt Hourglass(PetscInt dim, const PetscReal s[3], PetscReal G
   return 4;
 }
 
+/* the hourglass viscosity of a cell, kappa rho c V_c / h / 2^dim, rho its
+   mass per cell volume (a sliver's damping scales with its mass) */
+static inline PetscReal HourglassKappa(const PSSolver *S, const PSCells *C, PetscReal Mc, PetscReal cmax)
+{
+  return C->hourglass * (Mc / C->Vc * cmax) * C->Vc / PetscMin(S->h[0], S->h[1]) / (1 << S->dim);
+}
+
+/* the hourglass rates g_m = sum_j G_m(j) v_j of cell (i, j, k) from nodal
+   velocities v (dim per node), or nodal momenta over the masses mass when
+   mass is given; the corners' node indices into oc; returns the modes */
+static inline PetscInt HourglassRates(const PSSolver *S, const PSIndex *ix, PetscInt i, PetscInt j, PetscInt k, const PetscReal *v, const PetscReal *mass, PetscReal hg[4][3], PetscInt oc[8])
+{
+  const PetscInt dim = S->dim;
+  PetscInt       a, d, e, nh = 0;
+  PetscReal      G[4];
+
+  for (e = 0; e < 4; e++)
+    for (d = 0; d < 3; d++) hg[e][d] = 0.0;
+  for (a = 0; a < (1 << dim); a++) {
+    PetscInt  off[3];
+    PetscReal s[3];
+    Corner(dim, a, off, s);
+    oc[a] = Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0);
+    nh    = Hourglass(dim, s, G);
+    for (d = 0; d < dim; d++) {
+      const PetscReal vd = mass ? (mass[oc[a]] > 0.0 ? v[dim * oc[a] + d] / mass[oc[a]] : 0.0) : v[dim * oc[a] + d];
+      for (e = 0; e < nh; e++) hg[e][d] += G[e] * vd;
+    }
+  }
+  return nh;
+}
+
 /* mixture values of a cell: material mass and volume, and its signal speed:
    the largest sound speed among the materials that hold at least PS_TRACE
    of the materials' volume (a trace left by the remap next to an interface
@@ -102,8 +134,8 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
         const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, vc[8][3], G[4], hg[4][3] = {{0}}, rhoc, kap;
-        PetscInt         o[8], nh = 0;
+        PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, G[4], hg[4][3], kap;
+        PetscInt         o[8], nh;
         CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* sum_k V_k s_k - (p_f + q) V_m I, p_f the closure's pressure (closure.c) */
@@ -127,19 +159,9 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
           }
         }
         for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
-        /* corners: node indices and the cell materials' nodal velocities */
-        for (a = 0; a < nco; a++) {
-          PetscInt  off[3];
-          PetscReal s[3];
-          Corner(dim, a, off, s);
-          o[a] = Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0);
-          for (d = 0; d < dim; d++) vc[a][d] = C->mcn[o[a]] > 0.0 ? C->P[dim * o[a] + d] / C->mcn[o[a]] : 0.0;
-          nh = Hourglass(dim, s, G);
-          for (e = 0; e < nh; e++)
-            for (d = 0; d < dim; d++) hg[e][d] += G[e] * vc[a][d];
-        }
-        rhoc = Mc / C->Vc * cmax; /* the cell's mass per volume: a sliver's damping scales with its mass */
-        kap  = C->hourglass * rhoc * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
+        /* corners: node indices, and the hourglass rates of the cell materials' nodal velocities */
+        nh  = HourglassRates(S, ix, i, j, k, C->P, C->mcn, hg, o);
+        kap = HourglassKappa(S, C, Mc, cmax);
         for (a = 0; a < nco; a++) {
           PetscInt  off[3];
           PetscReal s[3], gN[3], *gn = &g[dof * o[a]];
@@ -304,8 +326,8 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
         const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
         PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * (1 + ns)], *gh = qh + 1;
-        PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, G[4], hg0[4][3] = {{0}}, kap;
-        PetscInt         oc[8], nh = 0;
+        PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, G[4], hgh[4][3], hg0[4][3], kap;
+        PetscInt         oc[8], nh;
         CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* the half-step state at v^{n+1/2*}: half the volume change, shared */
@@ -332,13 +354,17 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
             PetscReal sq[8], w;
             for (e = 0; e < C->nq; e++) sq[e] = blk[PS_CQ + e];
             PetscCall(Deviator(M, dim, L, 0.5 * dt, blk[PS_CM] / V1, sq, blk[PS_CM], &w));
-            for (e = 0; e < ns; e++) sk[e] = sq[e] / blk[PS_CM];
-            /* the force's deviatoric part changes by V_k (s_k^h - s_k^n) */
             for (e = 0; e < ns; e++) {
-              const PetscReal ds = blk[PS_CV] * (sk[e] - blk[PS_CQ + e] / blk[PS_CM]);
-              const PetscInt  ab[6][2] = {{0, 0}, {1, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}}, *q2 = dim == 3 ? ab[e] : (const PetscInt[4][2]){{0, 0}, {1, 1}, {2, 2}, {0, 1}}[e];
-              dsig[q2[0]][q2[1]] += ds;
-              if (q2[0] != q2[1]) dsig[q2[1]][q2[0]] += ds;
+              sk[e] = sq[e] / blk[PS_CM];
+              sq[e] = blk[PS_CQ + e] / blk[PS_CM];
+            }
+            /* the force's deviatoric part changes by V_k (s_k^h - s_k^n) */
+            {
+              PetscReal Sh[3][3], Sn[3][3];
+              ForceStress(dim, sk, 0.0, Sh);
+              ForceStress(dim, sq, 0.0, Sn);
+              for (d = 0; d < 3; d++)
+                for (e = 0; e < 3; e++) dsig[d][e] += blk[PS_CV] * (Sh[d][e] - Sn[d][e]);
             }
           }
         }
@@ -350,21 +376,13 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
           const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec) - u[C->nmat * C->ms + PS_CX_Q];
           for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
         }
-        /* hourglass rates at v^{n+1/2*} and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
-        for (e = 0; e < 12; e++) gh[e] = 0.0;
-        for (a = 0; a < nco; a++) {
-          PetscInt  off[3];
-          PetscReal sg[3];
-          Corner(dim, a, off, sg);
-          oc[a] = Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0);
-          nh    = Hourglass(dim, sg, G);
-          for (e = 0; e < nh; e++)
-            for (d = 0; d < dim; d++) {
-              gh[3 * e + d] += G[e] * C->vh[dim * oc[a] + d];
-              hg0[e][d] += G[e] * (C->mcn[oc[a]] > 0.0 ? C->P[dim * oc[a] + d] / C->mcn[oc[a]] : 0.0);
-            }
-        }
-        kap = C->hourglass * Mc / C->Vc * cmax * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
+        /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
+           and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
+        nh = HourglassRates(S, ix, i, j, k, C->vh, NULL, hgh, oc);
+        (void)HourglassRates(S, ix, i, j, k, C->P, C->mcn, hg0, oc);
+        for (e = 0; e < 4; e++)
+          for (d = 0; d < 3; d++) gh[3 * e + d] = hgh[e][d];
+        kap = HourglassKappa(S, C, Mc, cmax);
         /* the force change at the corners */
         for (a = 0; a < nco; a++) {
           PetscInt  off[3];
@@ -375,7 +393,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
             for (e = 0; e < dim; e++) fd -= dsig[d][e] * gN[e];
-            for (e = 0; e < nh; e++) fd -= kap * G[e] * (gh[3 * e + d] - hg0[e][d]);
+            for (e = 0; e < nh; e++) fd -= kap * G[e] * (hgh[e][d] - hg0[e][d]);
             C->df[dim * oc[a] + d] += fd;
           }
         }
@@ -436,7 +454,7 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
         PetscReal       *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
-        const PetscReal *hs = &C->hs[HalfStateSize(C) * n];      /* the predictor's half-step values */
+        const PetscReal *hs = &C->hs[HalfStateSize(C) * n], qh = hs[C->nmat * (1 + C->ns)]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         CellGradient(S, ix, i, j, k, C->vh, dim, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
@@ -457,19 +475,9 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
-          const PetscInt   nco = 1 << dim;
-          const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1;
-          PetscReal        hg[4][3] = {{0}}, G[4], kap = C->hourglass * Mc / C->Vc * cmax * C->Vc / PetscMin(S->h[0], S->h[1]) / nco;
-          PetscInt         a, e, nh = 0;
-          for (a = 0; a < nco; a++) {
-            PetscInt  off[3], oo;
-            PetscReal s[3];
-            Corner(dim, a, off, s);
-            oo = Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0);
-            nh = Hourglass(dim, s, G);
-            for (e = 0; e < nh; e++)
-              for (d = 0; d < dim; d++) hg[e][d] += G[e] * C->vh[dim * oo + d];
-          }
+          const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1, kap = HourglassKappa(S, C, Mc, cmax);
+          PetscReal        hg[4][3];
+          PetscInt         oc[8], e, nh = HourglassRates(S, ix, i, j, k, C->vh, NULL, hg, oc);
           for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) hgw += kap * gh[3 * e + d] * hg[e][d] * dt;
         }
@@ -487,16 +495,18 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
             /* the deviator over the whole step; its work is the half step's,
                V_k s_k^h : D dt (the force's deviatoric part was V_k s_k^h) */
             PetscCall(Deviator(M, dim, L, dt, blk[PS_CM] / V1, &blk[PS_CQ], blk[PS_CM], &wdev));
-            wh = sk[0] * L[0][0] + sk[1] * L[1][1] + sk[2] * L[2][2];
-            if (dim == 3) wh += sk[3] * (L[1][2] + L[2][1]) + sk[4] * (L[0][2] + L[2][0]) + sk[5] * (L[0][1] + L[1][0]);
-            else wh += sk[3] * (L[0][1] + L[1][0]);
+            PetscReal Sh[3][3];
+            PetscInt  a, e;
+            ForceStress(dim, sk, 0.0, Sh);
+            for (a = 0; a < 3; a++)
+              for (e = 0; e < 3; e++) wh += Sh[a][e] * L[a][e];
             wh *= blk[PS_CV] * dt;
           }
           /* e1 = e0 + (hourglass heat by mass share + deviatoric work - (p_k^h +
              q^h) (dV_k - dVr_k) - (p* + q^h) dVr_k) / M_k: the work the
              half-step force did on v^{n+1/2}, and the relaxation's exchange
              at the one pressure p* (closure.c) */
-          e1 = (blk[PS_CE] + hgw * blk[PS_CM] / Mc + wh - (pk[0] + hs[C->nmat * (1 + C->ns)]) * (dVk[m] - dVr[m]) - (pr + hs[C->nmat * (1 + C->ns)]) * dVr[m]) / blk[PS_CM];
+          e1 = (blk[PS_CE] + hgw * blk[PS_CM] / Mc + wh - (pk[0] + qh) * (dVk[m] - dVr[m]) - (pr + qh) * dVr[m]) / blk[PS_CM];
           /* an ideal gas holds no negative energy: a trace the closure expands
              several-fold in one step would reach e < 0 (p < 0, no sound
              speed); it is set to 0 and what that adds booked (a negative loss) */
