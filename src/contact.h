@@ -15,8 +15,9 @@
       P2G    [m_k, (mv)_k, f_k, g_k = sum_p m_p grad N_ip, V_k = sum_p N_ip V_p, (m psi)_k = sum_p N_ip m_p psi_p, 0, 0]
       grid   [m_k, v_k^new, dv_k = v_k^new - v_k^old, g_k, V_k, dpsi_i, alpha_k, dv_f,k]   (shared nodes)
   (psi_p = (1 - D_p)^2 from the marker's interface damage D_p, cohesive scenes
-  only; alpha_k the fraction of the way to the centre of mass the cohesive law
-  moved field k, which the re-projection repeats; dpsi_i the decrement of psi
+  only; alpha_k 1 where the contact corrected field k (friction pairs), or the
+  fraction of the way to the centre of mass the cohesive law moved it, which
+  the re-projection repeats; dpsi_i the decrement of psi
   of the node's cohesive pair this step, -1 for fields not in one; dv_f,k the
   friction's tangential correction, which G2P books at the markers)
   and of the re-projection array h, per field k (dim reals):
