@@ -222,9 +222,10 @@ def resources(scene, cs, markers=None, hosts=1, ranks=1):
     cell_dof = ncm * (3 + (PSC(dim) + 2 if strength else 0)) + 4 if ncm else 0
     cell_bytes = 8 * (2 * cells * cell_dof + nodes * (3 * dim + 1)) if ncm else 0
     # velocity fields of bodies in contact (and plies with cohesive interfaces): per node and field
-    # the P2G/grid block (4 + 3 dim reals), the re-projection (dim) and the mass pass (1), plus a flag
+    # the P2G/grid block (4 + 4 dim reals, contact.h), the re-projection (dim) and the mass pass (1),
+    # plus a flag
     nfield = scene.contact.layout(scene)["nfield"] if scene.contact is not None else 1
-    field_bytes = nodes * (8 * nfield * (5 + 4 * dim) + 1) if nfield >= 2 else 0
+    field_bytes = nodes * (8 * nfield * (5 + 5 * dim) + 1) if nfield >= 2 else 0
     return dict(cells=cells, nodes=nodes, entries=nodes * (1 + 2 * dim), index_max=int(np.iinfo(PETSc.IntType).max),
                 index_bits=8 * np.dtype(PETSc.IntType).itemsize, markers=markers, markers_estimated=estimated,
                 grid_bytes=nodes * _grid_bytes_per_node(dim) + cell_bytes + field_bytes, marker_bytes=markers * per_marker,
