@@ -92,6 +92,11 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PetscCalloc1(nn * S->dim, &C->P));
   PetscCall(PetscCalloc1(nn * S->dim, &C->Pn));
   PetscCall(PetscCalloc2(nn, &C->mcn, nn * S->dim, &C->vh));
+  {
+    PetscInt nown = 1;
+    for (d = 0; d < 3; d++) nown *= C->ce[d] - C->cs[d];
+    PetscCall(PetscMalloc3(PetscMax(1, nown * PSCellsHalfSize(C)), &C->hs, nn * S->dim, &C->vo, nn * S->dim, &C->df)); /* the predictor's (lagrange.c) */
+  }
   PetscCall(PSHaloCreate(S, S->dim, &C->sfp));
   S->cells = C;
   PetscFunctionReturn(PETSC_SUCCESS);

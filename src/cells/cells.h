@@ -81,6 +81,14 @@ typedef struct PSCells_ {
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */
 } PSCells;
 
+/* reals per owned cell of the predictor's half-step values (C->hs,
+   lagrange.c): per material p_k^h and s_k^h (ns), then q^h and the
+   hourglass rates g_m^h (4 x 3) */
+static inline PetscInt PSCellsHalfSize(const PSCells *C)
+{
+  return C->nmat * (1 + C->ns) + 1 + 12;
+}
+
 /* index of ghosted cell (i, j, k) (global cell indices) */
 static inline PetscInt PSCellIdx(const PSCells *C, PetscInt i, PetscInt j, PetscInt k)
 {

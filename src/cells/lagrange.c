@@ -287,17 +287,10 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
   C->sat[6] = rho;
 }
 
-/* reals per owned cell of the predictor's half-step values (C->hs): per
-   material p_k^h and s_k^h (ns), then q^h and the hourglass rates g_m^h (4 x 3) */
-static inline PetscInt HalfStateSize(const PSCells *C)
-{
-  return C->nmat * (1 + C->ns) + 1 + 12;
-}
-
 PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dim = S->dim, dof = PSGridDof(S), nco = 1 << dim, ns = C->ns, hsd = HalfStateSize(C);
+  const PetscInt  dim = S->dim, dof = PSGridDof(S), nco = 1 << dim, ns = C->ns, hsd = PSCellsHalfSize(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   PetscReal      *g = S->g, hm = 0.0;
   PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0;
@@ -305,11 +298,6 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionBeginUser;
   if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
   PetscCall(PetscLogEventBegin(EV_Pred, 0, 0, 0, 0));
-  if (!C->hs) {
-    PetscInt nown = 1;
-    for (d = 0; d < 3; d++) nown *= C->ce[d] - C->cs[d];
-    PetscCall(PetscMalloc3(PetscMax(1, nown * hsd), &C->hs, C->nnl * dim, &C->vo, C->nnl * dim, &C->df));
-  }
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
   /* v^n at every local node (the grid's old velocity: musl keeps v_new - v_old;
      apic the cells' own P^C/m^C) and v^{n+1/2*} = (v^n + v*)/2 into vh */
@@ -454,7 +442,7 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
         PetscReal       *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
-        const PetscReal *hs = &C->hs[HalfStateSize(C) * n], qh = hs[C->nmat * (1 + C->ns)]; /* the predictor's half-step values; q^h */
+        const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * (1 + C->ns)]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         CellGradient(S, ix, i, j, k, C->vh, dim, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
