@@ -31,25 +31,20 @@ static inline PetscInt PSShapeNodes(PSShapeType type)
   return type == PS_SHAPE_LINEAR ? 2 : 3;
 }
 
-/* uniform GIMP in one direction: d = (x_p - x_i)/h, l = l_p/h (0 < l <= 1/2) */
-static inline void PSGimp1(PetscReal d, PetscReal l, PetscReal ih, PetscReal *w, PetscReal *dw)
+/* 4-wide |a| and clamp to [-1, 1] on the bits (GCC vector extensions: no
+   branches, one instruction each) */
+typedef long long PSv4i __attribute__((vector_size(4 * sizeof(long long))));
+static inline PSv4 PSv4Abs(PSv4 a)
 {
-  const PetscReal a = fabs(d), sg = d < 0 ? -1.0 : 1.0;
-  if (a < l) {
-    *w  = 1.0 - (a * a + l * l) / (2.0 * l);
-    *dw = -a / l;
-  } else if (a < 1.0 - l) {
-    *w  = 1.0 - a;
-    *dw = -1.0;
-  } else if (a < 1.0 + l) {
-    *w  = (1.0 + l - a) * (1.0 + l - a) / (4.0 * l);
-    *dw = -(1.0 + l - a) / (2.0 * l);
-  } else {
-    *w  = 0.0;
-    *dw = 0.0;
-  }
-  /* dN/dx_p = dS/da * sign(d) / h */
-  *dw *= sg * ih;
+  const PSv4i mask = {0x7fffffffffffffffLL, 0x7fffffffffffffffLL, 0x7fffffffffffffffLL, 0x7fffffffffffffffLL};
+  return (PSv4)((PSv4i)a & mask);
+}
+static inline PSv4 PSv4Clamp1(PSv4 a)
+{
+  const PSv4  one = {1.0, 1.0, 1.0, 1.0};
+  const PSv4i hi = a > one, lo = a < -one;
+  a = (PSv4)((hi & (PSv4i)one) | (~hi & (PSv4i)a));
+  return (PSv4)((lo & (PSv4i)(-one)) | (~lo & (PSv4i)a));
 }
 
 /* weights of marker x (m) with half size lp (m); ih = 1/h (1/m) */
@@ -80,11 +75,23 @@ static inline void PSShapeEval(PSShapeType type, PetscInt dim, const PetscReal l
       S->dw[d][2] = (f - 0.5) * ih[d];
     } break;
     case PS_SHAPE_GIMP: {
-      /* nodes i with |xi - i| < 1 + l, l <= 1/2: the (at most) 3 integers
-         after xi - 1 - l */
-      const PetscReal l = PetscMin(0.5, PetscMax(1e-6, lp * ih[d])), c = floor(xi - 1.0 - l) + 1.0;
+      /* uniform GIMP (Bardenhagen & Kober 2004) is the hat N(t) = 1 - |t|
+         averaged over the particle, d = x_p/h - i, l = l_p/h <= 1/2:
+           S(d) = (H(d + l) - H(d - l)) / 2l,  dS/dd = (N(d + l) - N(d - l)) / 2l
+         with H(t) = int_-1^t N = 1/2 + t - t|t|/2 on [-1, 1] (t clamped: S
+         vanishes beyond |d| = 1 + l).  The nodes i with |xi - i| < 1 + l are
+         the (at most) 3 integers after xi - 1 - l: one 4-wide evaluation, no
+         branches (markers out of a regular lattice mispredicted the piecewise
+         form's, and it divided twice per node) */
+      const PetscReal l = PetscMin(0.5, PetscMax(1e-6, lp * ih[d])), c = floor(xi - 1.0 - l) + 1.0, i2l = 0.5 / l;
+      const PSv4      k4 = {0.0, 1.0, 2.0, 3.0}, dd = (xi - c) - k4;
+      const PSv4      tp = PSv4Clamp1(dd + l), tm = PSv4Clamp1(dd - l), ap = PSv4Abs(tp), am = PSv4Abs(tm);
+      const PSv4      w = ((tp - tm) - 0.5 * (tp * ap - tm * am)) * i2l, dw = (am - ap) * (i2l * ih[d]);
       S->i0[d] = (PetscInt)c + PS_PAD;
-      for (k = 0; k < 3; k++) PSGimp1(xi - (c + k), l, ih[d], &S->w[d][k], &S->dw[d][k]);
+      for (k = 0; k < 3; k++) {
+        S->w[d][k]  = w[k];
+        S->dw[d][k] = dw[k];
+      }
     } break;
     }
   }

@@ -145,13 +145,5 @@ static inline void Store8(PetscReal *p, PSv8 v)
 {
   memcpy(p, &v, sizeof(v));
 }
-/* (a, a): four reals twice */
-static inline PSv8 Load4Twice(const PetscReal *p)
-{
-  PSv8 v;
-  memcpy(&v, p, 4 * sizeof(PetscReal));
-  memcpy((char *)&v + 4 * sizeof(PetscReal), p, 4 * sizeof(PetscReal));
-  return v;
-}
 
 #endif

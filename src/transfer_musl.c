@@ -8,7 +8,7 @@
     4. re-project (mv)_i = sum_p N_ip m_p v_p^{n+1}, v_i = (mv)_i / m_i        (PSReproject)
     5. L_p = sum_i v_i (x) grad N_ip of the re-projected velocity, into S->Lp   (PSReproject)
   All use N_ip at x_p^n: each marker's weights are evaluated once per step, in
-  P2G, and kept in S->shape.
+  P2G, and kept in S->shape (contact.c reads them too).
 
   Axisymmetric 2D (x = r, y = z; S->axi): the weak form of the momentum
   equation in cylindrical coordinates with the full revolution's V_p and m_p
@@ -23,46 +23,54 @@
   compiled apart (a constant flag), so the plane-strain ones are unchanged.
 
   Node layout (grid.c reads it through PSMUSLLayout): 3D nodes hold 8 reals,
-  [m, mv_x, mv_y, mv_z | 0, f_x, f_y, f_z], one 8-wide vector (PSv8: one
-  AVX-512 register, one cache line in the 64-byte aligned arrays), and the
-  re-projection array 4 reals [0, mv_x, mv_y, mv_z]; 2D nodes [m, mv, f] and
-  [mv].  The kernels are written once with the dimension dim and the nodes per
-  direction N (2 linear, 3 GIMP and B-splines) as constants at each call
-  (always inlined): 2D/3D x N = 2/3 are four compiled kernels.  Per row of N
-  nodes along x the y-z factors are applied once, so a 3D node costs one or
-  two vector multiply-adds in each pass.
+  [m, mv_x, mv_y, mv_z | 0, f_x, f_y, f_z] (one cache line in the 64-byte
+  aligned arrays), and the re-projection array 4 reals [0, mv_x, mv_y, mv_z];
+  2D nodes [m, mv, f] and [mv].  The kernels are written once with the
+  dimension dim and the nodes per direction N (2 linear, 3 GIMP and B-splines)
+  as constants at each call (always inlined): 2D/3D x N = 2/3 are four
+  compiled kernels.  Per row of N nodes along x the y-z factors are applied
+  once; in 3D each node then costs 4-wide multiply-adds only on the lanes it
+  needs (P2G: one on the mass-momentum half, two on the force half; 8-wide
+  registers would run the empty lanes too, at twice the cost on a CPU that
+  splits them).  The passes after P2G read each marker's weights where P2G
+  left them (a copy of the 160-byte record per marker cost a third of the
+  gradient's time); the arrays they store into are restrict.
 */
 #include "step.h"
 #include "cells/cells.h"
 
 /* 1. P2G of one marker, dim and N constant */
-static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, PetscReal lp, PetscReal *g, PSShape *shp)
+static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PSShape *sh, PetscReal *g)
 {
   const PetscInt   dof = dim == 3 ? 8 : 5, nz = dim == 3 ? N : 1, sy = dof * ix->gm[0], sz = sy * ix->gm[1];
   const PetscReal *x = &f->x[p * dim], *v = &f->v[p * dim], m = f->mass[p], V = f->vol[p];
   PetscReal        s[3][3], *g0;
   PetscInt         a, b, c, d, e;
-  PSShape          shl, *sh = &shl; /* a local copy: stores into g cannot alias it */
-
-  PSShapeEval(S->run.shape, dim, S->scene->lower, S->ih, x, lp, sh);
-  *shp = shl;
   ForceStress(dim, &f->sig[p * PSStressComponents(dim)], f->q[p], s);
   g0 = &g[dof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])]; /* first node; rows sy, planes sz apart */
   if (dim == 3) {
-    /* 8-wide: T = (m, m v | 0), S_e = (0 | 0, -V (sigma - q I) e_e) */
-    const PSv8 T  = {m, m * v[0], m * v[1], m * v[2], 0.0, 0.0, 0.0, 0.0};
-    const PSv8 S0 = {0.0, 0.0, 0.0, 0.0, 0.0, -V * s[0][0], -V * s[1][0], -V * s[2][0]};
-    const PSv8 S1 = {0.0, 0.0, 0.0, 0.0, 0.0, -V * s[0][1], -V * s[1][1], -V * s[2][1]};
-    const PSv8 S2 = {0.0, 0.0, 0.0, 0.0, 0.0, -V * s[0][2], -V * s[1][2], -V * s[2][2]};
-    for (c = 0; c < N; c++)
+    /* T = (m, m v), S_e = (0, -V (sigma - q I) e_e); per plane c and row b
+       the y-z factors: node a adds w_x,a T_bc to its first half and
+       w_x,a F1_bc + dw_x,a F0_bc to its second, with
+       T_bc = w_y w_z T, F1_bc = dw_y w_z S1 + w_y dw_z S2, F0_bc = w_y w_z S0
+       (f_i = -V (sigma - q I) grad N_ip, grad N = (dw_x w_y w_z, w_x dw_y w_z, w_x w_y dw_z)) */
+    const PSv4 T  = {m, m * v[0], m * v[1], m * v[2]};
+    const PSv4 S0 = {0.0, -V * s[0][0], -V * s[1][0], -V * s[2][0]};
+    const PSv4 S1 = {0.0, -V * s[0][1], -V * s[1][1], -V * s[2][1]};
+    const PSv4 S2 = {0.0, -V * s[0][2], -V * s[1][2], -V * s[2][2]};
+    for (c = 0; c < N; c++) {
+      const PSv4 Tc = sh->w[2][c] * T, S0c = sh->w[2][c] * S0, S1c = sh->w[2][c] * S1, S2c = sh->dw[2][c] * S2;
       for (b = 0; b < N; b++) {
-        /* row of N nodes along x: node a adds w_x,a U + dw_x,a D with
-           U = (wyz T | dyz S1 + wydz S2), D = (0 | wyz S0) */
-        const PetscReal wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
-        const PSv8      U = wyz * T + dyz * S1 + wydz * S2, D = wyz * S0;
-        PetscReal      *gr = g0 + c * sz + b * sy;
-        for (a = 0; a < N; a++) Store8(gr + 8 * a, Load8(gr + 8 * a) + sh->w[0][a] * U + sh->dw[0][a] * D);
+        const PSv4 Tb = sh->w[1][b] * Tc, F1 = sh->dw[1][b] * S1c + sh->w[1][b] * S2c, F0 = sh->w[1][b] * S0c;
+        PetscReal *gr = g0 + c * sz + b * sy;
+        for (a = 0; a < N; a++) {
+          /* the marker's sum first, then one add into the node: the chain
+             through memory to the next marker at the same node is one add */
+          Store4(gr + 8 * a, Load4(gr + 8 * a) + sh->w[0][a] * Tb);
+          Store4(gr + 8 * a + 4, Load4(gr + 8 * a + 4) + (sh->w[0][a] * F1 + sh->dw[0][a] * F0));
+        }
       }
+    }
   } else {
     PetscReal       mv[2], Vs[2][2];
     const PetscReal Vtt = axi ? V * s[2][2] / x[0] : 0.0; /* V_p sigma_tt / r_p (axisymmetric) */
@@ -93,6 +101,8 @@ static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFi
   PetscReal V0 = -1.0, lp = 0.0;
   PetscInt  p;
   for (p = 0; p < f->n; p++) {
+    PSShape sh; /* a local (stores into g cannot alias it), kept for the later passes after the scatter:
+                   copying it at once would load the stores just made before they reach the cache */
     if (axi && S->run.shape == PS_SHAPE_GIMP) {
       /* the initial section area A0 = V0 / (2 pi r0), r0 = r_p / F_tt and
          F_tt = V / (V0 det F_rz): A0 = V / (2 pi r_p det F_rz) */
@@ -103,13 +113,15 @@ static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFi
       V0 = f->V0[p];
       lp = HalfSize(dim, V0);
     }
-    P2GMarker(S, f, p, ix, dim, N, axi, lp, g, &S->shape[p]);
+    PSShapeEval(S->run.shape, dim, S->scene->lower, S->ih, &f->x[p * dim], lp, &sh);
+    P2GMarker(S, f, p, ix, dim, N, axi, &sh, g);
+    S->shape[p] = sh;
   }
 }
 
 /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new, dx_p = dt sum N v_new;
    4. and in the same pass the re-projection (mv)_i += N_ip m_p v_p^{n+1} */
-static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *g, PetscReal *hv)
+static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *restrict g, PetscReal *restrict hv)
 {
   const PetscInt  dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1;
   const PetscInt  sy = dof * ix->gm[0], sz = sy * ix->gm[1], hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
@@ -117,7 +129,7 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
   PetscInt        p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
-    const PSShape    shl = S->shape[p], *sh = &shl; /* a local copy: stores into hv cannot alias it */
+    const PSShape   *sh = &S->shape[p]; /* hv is restrict: its stores cannot alias it */
     const PetscInt   o  = Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2]);
     const PetscReal *g0 = &g[dof * o];
     PetscReal       *h0 = &hv[hdof * o], *v = &f->v[p * dim], m = f->mass[p];
@@ -179,35 +191,39 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
 
 /* 5. L_p = sum_i v_i (x) grad N_ip from the re-projected velocities, into
    S->Lp (9 reals per marker, row major) */
-static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *hv)
+static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *restrict hv)
 {
   const PetscInt hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1, hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
   PetscInt       p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
-    const PSShape    shl = S->shape[p], *sh = &shl;
+    const PSShape   *sh = &S->shape[p];
     const PetscReal *h0 = &hv[hdof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])];
     PetscReal       *L  = &S->Lp[9 * p];
     if (dim == 3) {
       /* columns of L: c0 = sum dN/dx v, c1 = sum dN/dy v, c2 = sum dN/dz v.
-         Per row, s = sum_a (dw_x,a v_a | w_x,a v_a) 8-wide; then
-         c01 += (wyz | dyz) s, c2 += wydz s (its upper half) */
-      PSv8 W[3], c01 = {0, 0, 0, 0, 0, 0, 0, 0}, c2 = {0, 0, 0, 0, 0, 0, 0, 0};
-      for (a = 0; a < N; a++) W[a] = (PSv8){sh->dw[0][a], sh->dw[0][a], sh->dw[0][a], sh->dw[0][a], sh->w[0][a], sh->w[0][a], sh->w[0][a], sh->w[0][a]};
+         Per row, sw = sum_a w_x,a v_a and sd = sum_a dw_x,a v_a; then
+         c0 += w_y w_z sd, c1 += dw_y w_z sw, c2 += w_y dw_z sw (4-wide) */
+      PSv4 c0 = {0, 0, 0, 0}, c1 = {0, 0, 0, 0}, c2 = {0, 0, 0, 0};
       for (c = 0; c < N; c++)
         for (b = 0; b < N; b++) {
           const PetscReal  wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
           const PetscReal *hr  = h0 + c * hz + b * hy;
-          const PSv8       Y   = {wyz, wyz, wyz, wyz, dyz, dyz, dyz, dyz};
-          PSv8             sr  = W[0] * Load4Twice(hr);
-          for (a = 1; a < N; a++) sr += W[a] * Load4Twice(hr + 4 * a);
-          c01 += Y * sr;
-          c2 += wydz * sr;
+          const PSv4       v0  = Load4(hr);
+          PSv4             sw = sh->w[0][0] * v0, sd = sh->dw[0][0] * v0;
+          for (a = 1; a < N; a++) {
+            const PSv4 va = Load4(hr + 4 * a);
+            sw += sh->w[0][a] * va;
+            sd += sh->dw[0][a] * va;
+          }
+          c0 += wyz * sd;
+          c1 += dyz * sw;
+          c2 += wydz * sw;
         }
       for (d = 0; d < 3; d++) {
-        L[3 * d + 0] = c01[1 + d];
-        L[3 * d + 1] = c01[5 + d];
-        L[3 * d + 2] = c2[5 + d];
+        L[3 * d + 0] = c0[1 + d];
+        L[3 * d + 1] = c1[1 + d];
+        L[3 * d + 2] = c2[1 + d];
       }
     } else {
       PetscReal l00 = 0, l01 = 0, l10 = 0, l11 = 0, vr = 0;
