@@ -31,67 +31,93 @@ static inline PetscInt PSShapeNodes(PSShapeType type)
   return type == PS_SHAPE_LINEAR ? 2 : 3;
 }
 
-/* 4-wide |a| and clamp to [-1, 1] on the bits (GCC vector extensions: no
-   branches, one instruction each) */
-typedef long long PSv4i __attribute__((vector_size(4 * sizeof(long long))));
-static inline PSv4 PSv4Abs(PSv4 a)
+/* GIMP's particle size in cell units per direction, l = l_p / h clamped to
+   (0, 1/2], and 1/(2 l): set when l_p changes (uniform insertion repeats
+   it), so that no division waits in each marker's evaluation */
+typedef struct {
+  PetscReal l[3], i2l[3], i4l[3];
+} PSGimpSize;
+
+static inline void PSGimpSizeSet(PetscReal lp, const PetscReal ih[], PSGimpSize *G)
 {
-  const PSv4i mask = {0x7fffffffffffffffLL, 0x7fffffffffffffffLL, 0x7fffffffffffffffLL, 0x7fffffffffffffffLL};
-  return (PSv4)((PSv4i)a & mask);
-}
-static inline PSv4 PSv4Clamp1(PSv4 a)
-{
-  const PSv4  one = {1.0, 1.0, 1.0, 1.0};
-  const PSv4i hi = a > one, lo = a < -one;
-  a = (PSv4)((hi & (PSv4i)one) | (~hi & (PSv4i)a));
-  return (PSv4)((lo & (PSv4i)(-one)) | (~lo & (PSv4i)a));
+  PetscInt d;
+  for (d = 0; d < 3; d++) {
+    G->l[d]   = PetscMin(0.5, PetscMax(1e-6, lp * ih[d]));
+    G->i2l[d] = 0.5 / G->l[d];
+    G->i4l[d] = 0.25 / G->l[d];
+  }
 }
 
-/* weights of marker x (m) with half size lp (m); ih = 1/h (1/m) */
-static inline void PSShapeEval(PSShapeType type, PetscInt dim, const PetscReal lower[], const PetscReal ih[], const PetscReal x[], PetscReal lp, PSShape *S)
+/* where a marker sits: its first node and, per direction, its offset f in
+   cells from that node (and for GIMP g, its reach past the middle node's
+   near side; see below).  64 bytes: what the MUSL passes keep between P2G and
+   the gradient (PSShapeWeights turns it into the weights; storing those, 160
+   bytes, cost P2G more than evaluating them again costs the later passes) */
+typedef struct PSShapeAt_ {
+  PetscInt  i0[3]; /* first DMDA node per direction */
+  PetscReal f[3];  /* x_p/h - (i0 - PS_PAD) (-) */
+  PetscReal g[3];  /* GIMP: max(0, f - (1 - l)) (-); 0 for the other shapes */
+} PSShapeAt;
+
+/* where marker x (m) sits; G: GIMP's size (PSGimpSizeSet, unused by the
+   other shapes); ih = 1/h (1/m) */
+static inline void PSShapeLocate(PSShapeType type, PetscInt dim, const PetscReal lower[], const PetscReal ih[], const PetscReal x[], const PSGimpSize *G, PSShapeAt *A)
+{
+  PetscInt d;
+  for (d = 0; d < 3; d++) {
+    const PetscReal xi = d < dim ? (x[d] - lower[d]) * ih[d] : 0.0;
+    PetscReal       c  = 0.0;
+    /* linear: the node below; B-splines: the node below xi - 1/2; GIMP: the
+       (at most) 3 nodes with |xi - i| < 1 + l are the integers after
+       xi - 1 - l */
+    if (d < dim) c = type == PS_SHAPE_LINEAR ? floor(xi) : type == PS_SHAPE_BSPLINE2 ? floor(xi - 0.5) : floor(xi - 1.0 - G->l[d]) + 1.0;
+    A->i0[d] = d < dim ? (PetscInt)c + PS_PAD : 0;
+    A->f[d]  = xi - c;
+    A->g[d]  = type == PS_SHAPE_GIMP && d < dim ? PetscMax(0.0, A->f[d] - (1.0 - G->l[d])) : 0.0;
+  }
+}
+
+/* the weights and their derivatives where A says the marker sits */
+static inline void PSShapeWeights(PSShapeType type, PetscInt dim, const PetscReal ih[], const PSGimpSize *G, const PSShapeAt *A, PSShape *S)
 {
   PetscInt d, k;
   for (d = 0; d < dim; d++) {
-    const PetscReal xi = (x[d] - lower[d]) * ih[d];
+    const PetscReal f = A->f[d];
+    S->i0[d] = A->i0[d];
     switch (type) {
-    case PS_SHAPE_LINEAR: {
-      const PetscReal c = floor(xi), f = xi - c;
-      S->i0[d]    = (PetscInt)c + PS_PAD;
+    case PS_SHAPE_LINEAR:
       S->w[d][0]  = 1.0 - f;
       S->w[d][1]  = f;
       S->w[d][2]  = 0.0;
       S->dw[d][0] = -ih[d];
       S->dw[d][1] = ih[d];
       S->dw[d][2] = 0.0;
-    } break;
-    case PS_SHAPE_BSPLINE2: {
-      const PetscReal b = floor(xi - 0.5), f = xi - b;
-      S->i0[d]    = (PetscInt)b + PS_PAD;
+      break;
+    case PS_SHAPE_BSPLINE2:
       S->w[d][0]  = 0.5 * (1.5 - f) * (1.5 - f);
       S->w[d][1]  = 0.75 - (f - 1.0) * (f - 1.0);
       S->w[d][2]  = 0.5 * (f - 0.5) * (f - 0.5);
       S->dw[d][0] = (f - 1.5) * ih[d];
       S->dw[d][1] = -2.0 * (f - 1.0) * ih[d];
       S->dw[d][2] = (f - 0.5) * ih[d];
-    } break;
+      break;
     case PS_SHAPE_GIMP: {
-      /* uniform GIMP (Bardenhagen & Kober 2004) is the hat N(t) = 1 - |t|
-         averaged over the particle, d = x_p/h - i, l = l_p/h <= 1/2:
-           S(d) = (H(d + l) - H(d - l)) / 2l,  dS/dd = (N(d + l) - N(d - l)) / 2l
-         with H(t) = int_-1^t N = 1/2 + t - t|t|/2 on [-1, 1] (t clamped: S
-         vanishes beyond |d| = 1 + l).  The nodes i with |xi - i| < 1 + l are
-         the (at most) 3 integers after xi - 1 - l: one 4-wide evaluation, no
-         branches (markers out of a regular lattice mispredicted the piecewise
-         form's, and it divided twice per node) */
-      const PetscReal l = PetscMin(0.5, PetscMax(1e-6, lp * ih[d])), c = floor(xi - 1.0 - l) + 1.0, i2l = 0.5 / l;
-      const PSv4      k4 = {0.0, 1.0, 2.0, 3.0}, dd = (xi - c) - k4;
-      const PSv4      tp = PSv4Clamp1(dd + l), tm = PSv4Clamp1(dd - l), ap = PSv4Abs(tp), am = PSv4Abs(tm);
-      const PSv4      w = ((tp - tm) - 0.5 * (tp * ap - tm * am)) * i2l, dw = (am - ap) * (i2l * ih[d]);
-      S->i0[d] = (PetscInt)c + PS_PAD;
-      for (k = 0; k < 3; k++) {
-        S->w[d][k]  = w[k];
-        S->dw[d][k] = dw[k];
-      }
+      /* uniform GIMP (Bardenhagen & Kober 2004): the hat averaged over the
+         particle, S(d) = 1 - (d^2 + l^2)/2l for |d| < l, 1 - |d| for
+         l <= |d| < 1 - l, (1 + l - |d|)^2/4l for |d| < 1 + l, with d = x_p/h - i
+         and l = l_p/h <= 1/2.  From the first of its 3 nodes the marker sits
+         at f in [l, 1 + l), and with g = max(0, f - (1 - l)) the pieces are
+           S_0 = 1 - f + g^2/4l,  S_2 = g^2/4l,  S_1 = 1 - S_0 - S_2 = f - g^2/2l,
+           dS/dd = -1 + g/2l, 1 - g/l, g/2l:
+         no branches, no division (the piecewise form divided twice per node
+         and mispredicted off the lattice) */
+      const PetscReal q = A->g[d] * A->g[d] * G->i4l[d], gi = A->g[d] * G->i2l[d];
+      S->w[d][0]  = 1.0 - f + q;
+      S->w[d][1]  = f - 2.0 * q;
+      S->w[d][2]  = q;
+      S->dw[d][0] = (gi - 1.0) * ih[d];
+      S->dw[d][1] = (1.0 - 2.0 * gi) * ih[d];
+      S->dw[d][2] = gi * ih[d];
     } break;
     }
   }

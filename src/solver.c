@@ -176,7 +176,7 @@ PetscErrorCode PSSolverDestroy(PSSolver **S)
   PetscCall(PetscSFDestroy(&(*S)->sfh));
   PetscCall(PetscFree((*S)->mat));
   PetscCall(PetscFree((*S)->dx));
-  PetscCall(PetscFree((*S)->shape));
+  PetscCall(PetscFree((*S)->at));
   PetscCall(PetscFree((*S)->Lp));
   if ((*S)->cell_V) PetscCall(PetscFree2((*S)->cell_V, (*S)->cell_trL));
   PetscCall(PetscFree((*S)->gauge_id));

@@ -222,7 +222,7 @@ typedef struct {
   PetscInt      *lx[3];          /* DMDA node ownership: rank k owns [lx[k], lx[k+1]) */
   PetscInt       nproc[3];
   PetscReal     *dx;             /* scratch: marker displacement of the step */
-  struct PSShape_ *shape;        /* scratch: each marker's shape functions at x_p^n */
+  struct PSShapeAt_ *at;         /* scratch (musl): where each marker sits at x_p^n, from P2G to the gradient */
   PetscInt       ncache;         /* room in the scratch arrays (markers) */
   PSTotals       lost_local;     /* this rank's booked removals, cumulative */
   PetscInt       ngauge;         /* gauges: each follows one marker (its id) */

@@ -33,11 +33,11 @@ static PetscErrorCode EnsureScratch(PSSolver *S, PetscInt n)
   PetscFunctionBeginUser;
   if (n <= S->ncache) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFree(S->dx));
-  PetscCall(PetscFree(S->shape));
+  PetscCall(PetscFree(S->at));
   PetscCall(PetscFree(S->Lp));
   S->ncache = (PetscInt)(1.2 * n) + 16;
   PetscCall(PetscMalloc1(S->ncache * S->dim, &S->dx));
-  if (S->run.transfer == PS_TRANSFER_MUSL) PetscCall(PetscMalloc1(S->ncache, &S->shape));
+  if (S->run.transfer == PS_TRANSFER_MUSL) PetscCall(PetscMalloc1(S->ncache, &S->at));
   if (S->run.transfer == PS_TRANSFER_MUSL || S->run.fbar) PetscCall(PetscMalloc1(9 * S->ncache, &S->Lp));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -7,8 +7,10 @@
     3. G2P        v_p FLIP/PIC blend, dx_p = dt sum_i N_ip v_i^new               (PSG2P)
     4. re-project (mv)_i = sum_p N_ip m_p v_p^{n+1}, v_i = (mv)_i / m_i        (PSReproject)
     5. L_p = sum_i v_i (x) grad N_ip of the re-projected velocity, into S->Lp   (PSReproject)
-  All use N_ip at x_p^n: each marker's weights are evaluated once per step, in
-  P2G, and kept in S->shape (contact.c reads them too).
+  All use N_ip at x_p^n: P2G locates each marker (PSShapeLocate: its first
+  node and offsets, S->at, 64 bytes) and the later passes (and contact.c)
+  turn that into the weights again (PSShapeWeights, a few operations per
+  direction: storing the 160-byte weights cost P2G more).
 
   Axisymmetric 2D (x = r, y = z; S->axi): the weak form of the momentum
   equation in cylindrical coordinates with the full revolution's V_p and m_p
@@ -32,9 +34,7 @@
   once; in 3D each node then costs 4-wide multiply-adds only on the lanes it
   needs (P2G: one on the mass-momentum half, two on the force half; 8-wide
   registers would run the empty lanes too, at twice the cost on a CPU that
-  splits them).  The passes after P2G read each marker's weights where P2G
-  left them (a copy of the 160-byte record per marker cost a third of the
-  gradient's time); the arrays they store into are restrict.
+  splits them).  The arrays the passes after P2G store into are restrict.
 */
 #include "step.h"
 #include "cells/cells.h"
@@ -98,52 +98,53 @@ static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, c
 
 static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, PetscReal *g)
 {
-  PetscReal V0 = -1.0, lp = 0.0;
-  PetscInt  p;
+  PetscReal  V0 = -1.0;
+  PSGimpSize G = {{0}, {0}, {0}};
+  PetscInt   p;
   for (p = 0; p < f->n; p++) {
-    PSShape sh; /* a local (stores into g cannot alias it), kept for the later passes after the scatter:
-                   copying it at once would load the stores just made before they reach the cache */
-    if (axi && S->run.shape == PS_SHAPE_GIMP) {
-      /* the initial section area A0 = V0 / (2 pi r0), r0 = r_p / F_tt and
-         F_tt = V / (V0 det F_rz): A0 = V / (2 pi r_p det F_rz) */
-      const PetscReal *F = &f->F[4 * p];
-      lp = 0.5 * PetscSqrtReal(f->vol[p] / (2.0 * PETSC_PI * f->x[2 * p] * (F[0] * F[3] - F[1] * F[2])));
-    } else if (S->run.shape == PS_SHAPE_GIMP && f->V0[p] != V0) {
-      /* GIMP half size from V0 (cbrt is slow: uniform insertion repeats V0) */
-      V0 = f->V0[p];
-      lp = HalfSize(dim, V0);
-    }
-    PSShapeEval(S->run.shape, dim, S->scene->lower, S->ih, &f->x[p * dim], lp, &sh);
+    PSShapeAt at;
+    PSShape   sh; /* locals: stores into g cannot alias them */
+    PSMarkerGimpSize(S, f, p, dim, axi, &V0, &G);
+    PSShapeLocate(S->run.shape, dim, S->scene->lower, S->ih, &f->x[p * dim], &G, &at);
+    PSShapeWeights(S->run.shape, dim, S->ih, &G, &at, &sh);
     P2GMarker(S, f, p, ix, dim, N, axi, &sh, g);
-    S->shape[p] = sh;
+    S->at[p] = at; /* after the scatter, when the stores just made have reached the cache */
   }
 }
 
 /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new, dx_p = dt sum N v_new;
    4. and in the same pass the re-projection (mv)_i += N_ip m_p v_p^{n+1} */
-static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *restrict g, PetscReal *restrict hv)
+static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *restrict g, PetscReal *restrict hv)
 {
   const PetscInt  dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1;
   const PetscInt  sy = dof * ix->gm[0], sz = sy * ix->gm[1], hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
   const PetscReal apic = S->run.pic_fraction;
+  PetscReal       V0 = -1.0;
+  PSGimpSize      G = {{0}, {0}, {0}};
   PetscInt        p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
-    const PSShape   *sh = &S->shape[p]; /* hv is restrict: its stores cannot alias it */
+    PSShape          shl, *sh = &shl; /* a local: stores into hv cannot alias it */
+    PSMarkerWeights(S, f, p, dim, axi, &V0, &G, &shl);
     const PetscInt   o  = Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2]);
     const PetscReal *g0 = &g[dof * o];
     PetscReal       *h0 = &hv[hdof * o], *v = &f->v[p * dim], m = f->mass[p];
     if (dim == 3) {
-      /* acc = (sum N v_new | sum N dv), 8-wide over the node's two halves */
+      /* acc = (sum N v_new | sum N dv), 8-wide over the node's two halves,
+         summed by row, then plane, then the planes (short add chains: the
+         marker's velocity and its scatter wait on this sum) */
       PSv8 acc = {0, 0, 0, 0, 0, 0, 0, 0};
       PSv4 MV;
-      for (c = 0; c < N; c++)
+      for (c = 0; c < N; c++) {
+        PSv8 ac = {0, 0, 0, 0, 0, 0, 0, 0};
         for (b = 0; b < N; b++) {
           const PetscReal *gr = g0 + c * sz + b * sy;
           PSv8             sr = sh->w[0][0] * Load8(gr);
           for (a = 1; a < N; a++) sr += sh->w[0][a] * Load8(gr + 8 * a);
-          acc += (sh->w[1][b] * sh->w[2][c]) * sr;
+          ac += sh->w[1][b] * sr;
         }
+        acc += sh->w[2][c] * ac;
+      }
       for (d = 0; d < 3; d++) {
         v[d]               = (1.0 - apic) * (v[d] + acc[5 + d]) + apic * acc[1 + d];
         S->dx[p * dim + d] = dt * acc[1 + d];
@@ -194,32 +195,40 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
 static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *restrict hv)
 {
   const PetscInt hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1, hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
+  PetscReal      V0 = -1.0;
+  PSGimpSize     G = {{0}, {0}, {0}};
   PetscInt       p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
-    const PSShape   *sh = &S->shape[p];
+    PSShape          shl, *sh = &shl;
+    PSMarkerWeights(S, f, p, dim, axi, &V0, &G, &shl);
     const PetscReal *h0 = &hv[hdof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])];
     PetscReal       *L  = &S->Lp[9 * p];
     if (dim == 3) {
       /* columns of L: c0 = sum dN/dx v, c1 = sum dN/dy v, c2 = sum dN/dz v.
-         Per row, sw = sum_a w_x,a v_a and sd = sum_a dw_x,a v_a; then
-         c0 += w_y w_z sd, c1 += dw_y w_z sw, c2 += w_y dw_z sw (4-wide) */
+         Per row, sw = sum_a w_x,a v_a and sd = sum_a dw_x,a v_a; per plane
+         t0 = sum_b w_y sd, t1 = sum_b dw_y sw, t2 = sum_b w_y sw; then
+         c0 += w_z t0, c1 += w_z t1, c2 += dw_z t2 (4-wide) */
       PSv4 c0 = {0, 0, 0, 0}, c1 = {0, 0, 0, 0}, c2 = {0, 0, 0, 0};
-      for (c = 0; c < N; c++)
+      for (c = 0; c < N; c++) {
+        PSv4 t0 = {0, 0, 0, 0}, t1 = {0, 0, 0, 0}, t2 = {0, 0, 0, 0};
         for (b = 0; b < N; b++) {
-          const PetscReal  wyz = sh->w[1][b] * sh->w[2][c], dyz = sh->dw[1][b] * sh->w[2][c], wydz = sh->w[1][b] * sh->dw[2][c];
-          const PetscReal *hr  = h0 + c * hz + b * hy;
-          const PSv4       v0  = Load4(hr);
+          const PetscReal *hr = h0 + c * hz + b * hy;
+          const PSv4       v0 = Load4(hr);
           PSv4             sw = sh->w[0][0] * v0, sd = sh->dw[0][0] * v0;
           for (a = 1; a < N; a++) {
             const PSv4 va = Load4(hr + 4 * a);
             sw += sh->w[0][a] * va;
             sd += sh->dw[0][a] * va;
           }
-          c0 += wyz * sd;
-          c1 += dyz * sw;
-          c2 += wydz * sw;
+          t0 += sh->w[1][b] * sd;
+          t1 += sh->dw[1][b] * sw;
+          t2 += sh->w[1][b] * sw;
         }
+        c0 += sh->w[2][c] * t0;
+        c1 += sh->w[2][c] * t1;
+        c2 += sh->dw[2][c] * t2;
+      }
       for (d = 0; d < 3; d++) {
         L[3 * d + 0] = c0[1 + d];
         L[3 * d + 1] = c1[1 + d];
@@ -295,9 +304,10 @@ PetscErrorCode PSMUSLG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal 
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
-#define G2P3(n) G2PAll(S, f, ix, dt, 3, n, g, hv)
-#define G2P2(n) G2PAll(S, f, ix, dt, 2, n, g, hv)
-  PS_MUSL_DISPATCH(G2P3, G2P2);
+#define G2P3(n)  G2PAll(S, f, ix, dt, 3, n, PETSC_FALSE, g, hv)
+#define G2P2(n)  G2PAll(S, f, ix, dt, 2, n, PETSC_FALSE, g, hv)
+#define G2P2A(n) G2PAll(S, f, ix, dt, 2, n, PETSC_TRUE, g, hv)
+  PS_MUSL_DISPATCH_AXI(G2P3, G2P2, G2P2A);
   PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
