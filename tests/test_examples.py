@@ -277,8 +277,8 @@ def test_oblique_plate_2d_in_air_end_to_end(tmpdir_mpi):
 
 
 def test_sphere_plate_axi_end_to_end(tmpdir_mpi):
-    """The axisymmetric example (a copper sphere onto a steel plate) coarse
-    (0.5 mm cells) to 4 us on 2 ranks: the sphere's full-revolution mass
+    """The axisymmetric example (a copper sphere onto a steel plate, in
+    contact) coarse (0.5 mm cells) to 4 us on 2 ranks: the sphere's full-revolution mass
     4/3 pi R^3 rho, mass and axial momentum conserved (free faces; the axis acts
     on v_r only), the sphere slowed, the plate plastically struck, the total
     energy never gained and lost only to the 1% PIC share (measured -9.3%;
@@ -296,7 +296,9 @@ def test_sphere_plate_axi_end_to_end(tmpdir_mpi):
     assert abs(sp["mass"][0] - M) <= 2e-6 * M
     assert H["lost_mass"][-1] == 0.0
     assert abs(H["mass"][-1] - H["mass"][0]) <= 1e-12 * H["mass"][0]
-    assert abs(H["py"][-1] - H["py"][0]) <= 1e-10 * abs(H["py"][0])
+    # sphere and plate in contact: a field's nodes lighter than run.mass_threshold drop their force
+    # (tests/test_contact.py), measured 2.4e-10 of the axial momentum (bonded: below 1e-10)
+    assert abs(H["py"][-1] - H["py"][0]) <= 1e-9 * abs(H["py"][0])
     assert np.isclose(sp["vy"][0], -600.0, rtol=1e-12) and -600.0 < sp["vy"][-1] < -100.0
     assert 0.85 < H["total"][-1] / H["total"][0] < 1.005
     steps = sorted(f for f in os.listdir(tmpdir_mpi) if f.startswith("markers_"))

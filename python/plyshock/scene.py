@@ -695,9 +695,6 @@ class Scene:
             raise DeckError("contact", "friction between marker bodies (or cohesive ply interfaces) is not supported with bodies in cells yet "
                             "(their force reaches the single velocity field only: docs/contact.md); "
                             "set contact: {type: bonded}")
-        if self.contact.fields(self)[1] >= 2 and self.axisymmetric:
-            raise DeckError("contact", "friction between marker bodies (or cohesive ply interfaces) is not supported with geometry: axisymmetric yet "
-                            "(the fields' velocity gradient has no hoop term: docs/contact.md); set contact: {type: bonded}")
         if self.gauges is not None:
             if not isinstance(self.gauges, list):
                 raise DeckError("gauges", "must be a list of {name, point}")

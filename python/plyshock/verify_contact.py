@@ -89,6 +89,22 @@ def trap(contact, t_end=1.5e-6, h=50e-6, d=1e-3):
                  [CU], bs, Run(t_end=t_end, output_interval=0.0), contact=contact).validate()
 
 
+def trap_axisymmetric(contact, t_end=1.5e-6, h=50e-6, d=1e-3, R=None):
+    """The trap in axisymmetric 2D (x = r, y = z): copper disks of thickness d
+    stacked along the axis, the flyer at V along +z.  R None: 4 cells wide
+    with a symmetry face at r = 4h (uniaxial strain, the plane trap's 1D
+    answer); else disks of radius R with a free rim in a grid 2R wide (a
+    radial release)."""
+    W = R or 4 * h
+    bs = [Body("flyer", box=Box([0.0, 1e-3], [W, 1e-3 + d]), material="cu", velocity=[0.0, V], subdivision=2),
+          Body("front", box=Box([0.0, 1e-3 + d], [W, 1e-3 + 2 * d]), material="cu", subdivision=2),
+          Body("rear", box=Box([0.0, 1e-3 + 2 * d], [W, 1e-3 + 3 * d]), material="cu", subdivision=2)]
+    Wg, L = (W, 8e-3) if R is None else (2 * W, 8e-3)
+    return Scene(2, Grid([0.0, 0.0], [Wg, L], [round(Wg / h), round(L / h)],
+                         {"x-": "symmetry", "x+": "symmetry" if R is None else "free", "y-": "free", "y+": "free"}),
+                 [CU], bs, Run(t_end=t_end, output_interval=0.0), contact=contact, geometry="axisymmetric").validate()
+
+
 def slide(mu, t_end=4e-6, h=0.25e-3, output_interval=0.0):
     """An aluminium block (4 x 2 mm) thrown at (20, -10) m/s onto an aluminium
     plate (20 x 2 mm) held on its lower face: it slides along the plate while
