@@ -81,14 +81,24 @@ static inline PetscReal PairDamage(const PetscReal *m, const PetscReal *Pk, Pets
   return 1.0 - PetscSqrtReal(PetscMin(1.0, PetscMax(0.0, (m[a] * Pk[a] + m[b] * Pk[b]) / (m[a] + m[b]))));
 }
 
-/* A cohesive pair's interface area at a node, (|g_a| V_a/m_a + |g_b| V_b/m_b)/2:
+/* A cohesive pair's interface area at node ip, (|g_a| V_a/m_a + |g_b| V_b/m_b)/2:
    the volume gradient of either ply, whose sum over a planar interface's nodes
-   is its area */
-static inline PetscReal PairArea(const PetscReal *m, const PetscReal (*gm)[3], const PetscReal *V, PetscInt a, PetscInt b)
+   is its area.  Axisymmetric: g is the section's mass gradient (PSContactP2G),
+   so that sum is the section's interface length, and the node's share of the
+   revolution's area is it times 2 pi r_c, r_c the centroid radius of the
+   node's ring [r_i - h/2, r_i + h/2] within the domain (r_i on the axis: h/4;
+   with the half length such a node carries, the ring's area pi h^2/4) */
+static inline PetscReal PairArea(const PSSolver *S, const PetscInt ip[3], const PetscReal *m, const PetscReal (*gm)[3], const PetscReal *V, PetscInt a, PetscInt b)
 {
   const PetscReal ga = PetscSqrtReal(gm[a][0] * gm[a][0] + gm[a][1] * gm[a][1] + gm[a][2] * gm[a][2]);
   const PetscReal gb = PetscSqrtReal(gm[b][0] * gm[b][0] + gm[b][1] * gm[b][1] + gm[b][2] * gm[b][2]);
-  return 0.5 * (ga * V[a] / m[a] + gb * V[b] / m[b]);
+  const PetscReal A  = 0.5 * (ga * V[a] / m[a] + gb * V[b] / m[b]);
+  if (S->axi) {
+    const PetscReal ri = S->scene->lower[0] + ip[0] * S->h[0];
+    const PetscReal r0 = PetscMax(S->scene->lower[0], ri - 0.5 * S->h[0]), r1 = PetscMin(S->scene->upper[0], ri + 0.5 * S->h[0]);
+    return A * PETSC_PI * (r0 + r1);
+  }
+  return A;
 }
 
 /* The cohesive law between two adjacent plies' fields (Nairn, CMES 92, 2013,
@@ -287,7 +297,7 @@ static void ContactLaw(const PSSolver *S, const PSContact *C, const PetscInt ip[
         }
       }
       if (iwork) { /* the grid phase: the law */
-        const PetscReal Dn = PairDamage(m, Pk, k, other), A = PairArea(m, gm, V, k, other);
+        const PetscReal Dn = PairDamage(m, Pk, k, other), A = PairArea(S, ip, m, gm, V, k, other);
         if (!(nn > 0.0) || !(A > 0.0)) { /* no surface here: intact plies stay together */
           alpha = Dn < 1.0 ? 1.0 : 0.0;
           if (alpha > 0.0)
@@ -358,7 +368,7 @@ static void ContactLaw(const PSSolver *S, const PSContact *C, const PetscInt ip[
      energy its law took */
   if (dD && b >= 0 && C->coh && C->coh[a * nf + b] >= 0) {
     const PetscReal Dn = PairDamage(m, Pk, a, b);
-    const PetscReal D1 = (nk[a][0] != 0.0 || nk[a][1] != 0.0 || nk[a][2] != 0.0) ? CohesiveDamage(S, C, a, b, nk[a], Dn, PairArea(m, gm, V, a, b), dt, v, iwork) : Dn;
+    const PetscReal D1 = (nk[a][0] != 0.0 || nk[a][1] != 0.0 || nk[a][2] != 0.0) ? CohesiveDamage(S, C, a, b, nk[a], Dn, PairArea(S, ip, m, gm, V, a, b), dt, v, iwork) : Dn;
     *dD                = PetscSqr(1.0 - Dn) - PetscSqr(1.0 - D1); /* the fraction of G_c taken: psi0 - psi1 >= 0 */
     pair[0]            = a;
     pair[1]            = b;

@@ -67,6 +67,7 @@ def test_valid_decks():
     _load(_edit(lambda d: d["bodies"].append(_lam("cu"))))
     _load(_edit(lambda d: d["bodies"].append(_lam("quasi", rotations=[[3, 30]]))))
     _load(_edit(lambda d: (d.pop("contact"), d["bodies"].append(_lam("cu")))))     # two bodies in contact
+    _load(_edit(lambda d: (d.pop("contact"), d["bodies"].append(_lam_cohesive()))))  # and cohesive ply interfaces
 
 
 BAD = [
@@ -82,8 +83,6 @@ BAD = [
     (lambda d: d["bodies"].append(_lam("quasi", rotations=[[1, 20]])), "bodies[1].laminate.plies[0].rotations", "rotations about axis 3 only"),
     (lambda d: d["bodies"][0].update(representation="cells"), "bodies[0].representation", "allowed: markers"),
     (lambda d: d.update(run={"t_end": 1e-6, "transfer": "apic", "shape": "bspline2"}), "run.transfer", "allowed: musl"),
-    # bodies in contact run axisymmetric (tests/test_contact.py); cohesive ply interfaces not yet
-    (lambda d: (d.pop("contact"), d["bodies"].append(_lam_cohesive())), "bodies[1].laminate.interface", "set type: bonded"),
 ]
 
 

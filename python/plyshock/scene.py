@@ -685,9 +685,9 @@ class Scene:
         self.contact.validate(bnames)
         lay = self.contact.layout(self)
         for i, b in enumerate(self.bodies):
-            if lay["split"][i] and (self.axisymmetric or any(c.representation == "cells" for c in self.bodies)):
+            if lay["split"][i] and any(c.representation == "cells" for c in self.bodies):
                 raise DeckError(f"bodies[{i}].laminate.interface", "cohesive ply interfaces are not supported "
-                                f"{'with geometry: axisymmetric' if self.axisymmetric else 'beside bodies in cells'} yet; set type: bonded")
+                                "beside bodies in cells yet; set type: bonded")
             if lay["split"][i] and lay["nfield"] > 16:
                 raise DeckError(f"bodies[{i}].laminate.interface", f"cohesive ply interfaces give each of its {len(b.laminate.plies)} plies a velocity "
                                 f"field: {lay['nfield']} fields in the scene; allowed at most 16")

@@ -62,6 +62,21 @@ def spall(strength, G=G_I, h=25e-6, d=1e-3, v=SPALL_V, t_end=1.2e-6, interface="
                  [AL], bs, Run(t_end=t_end, output_interval=output_interval, history_interval=1)).validate()
 
 
+def spall_axisymmetric(strength, G=G_I, h=25e-6, d=1e-3, v=SPALL_V, t_end=1.2e-6):
+    """The spall in axisymmetric 2D (x = r, y = z): the flyer and the two plies
+    are disks of radius 4h stacked along the axis, a symmetry face at r = 4h
+    (uniaxial strain, the plane spall's 1D problem); the interface's area is
+    pi (4h)^2."""
+    R, z0 = 4 * h, 0.5e-3
+    itf = Interface("cohesive", strength, strength, G, G)
+    lam = Laminate(Frame([0.0, z0 + d], [0.0, z0 + d + 1.0], [1.0, z0 + d]), [R], [Ply("al", d), Ply("al", d)], itf)
+    bs = [Body("flyer", box=Box([0.0, z0], [R, z0 + d]), material="al", velocity=[0.0, v], subdivision=2),
+          Body("laminate", laminate=lam, subdivision=2)]
+    L = z0 + 3 * d + 2e-3
+    return Scene(2, Grid([0.0, 0.0], [R, L], [4, round(L / h)], {"x-": "symmetry", "x+": "symmetry", "y-": "free", "y+": "free"}),
+                 [AL], bs, Run(t_end=t_end, output_interval=0.0, history_interval=1), geometry="axisymmetric").validate()
+
+
 def lap_shear(h=50e-6, S=10e6, G=G_II, v=LAP_V, L=5e-3, t=0.5e-3, t_end=3e-6, output_interval=0.0):
     """Mode II: a lap-shear strip.  Two aluminium plies (length L, thickness t
     each) stacked along y on a symmetry face, a cohesive interface between them
