@@ -32,8 +32,8 @@ static inline PetscInt PSShapeNodes(PSShapeType type)
 }
 
 /* GIMP's particle size in cell units per direction, l = l_p / h clamped to
-   (0, 1/2], and 1/(2 l): set when l_p changes (uniform insertion repeats
-   it), so that no division waits in each marker's evaluation */
+   (0, 1/2], and 1/(2 l), 1/(4 l): set when l_p changes (uniform insertion
+   repeats it), so that no division waits in each marker's weights */
 typedef struct {
   PetscReal l[3], i2l[3], i4l[3];
 } PSGimpSize;
