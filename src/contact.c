@@ -81,6 +81,14 @@ static inline PetscReal PairDamage(const PetscReal *m, const PetscReal *Pk, Pets
   return 1.0 - PetscSqrtReal(PetscMin(1.0, PetscMax(0.0, (m[a] * Pk[a] + m[b] * Pk[b]) / (m[a] + m[b]))));
 }
 
+/* axisymmetric: the radii [r0, r1] of node ip's ring, r_i -+ h/2 within the domain */
+static inline void NodeRing(const PSSolver *S, const PetscInt ip[3], PetscReal *r0, PetscReal *r1)
+{
+  const PetscReal ri = S->scene->lower[0] + ip[0] * S->h[0];
+  *r0 = PetscMax(S->scene->lower[0], ri - 0.5 * S->h[0]);
+  *r1 = PetscMin(S->scene->upper[0], ri + 0.5 * S->h[0]);
+}
+
 /* A cohesive pair's interface area at node ip, (|g_a| V_a/m_a + |g_b| V_b/m_b)/2:
    the volume gradient of either ply, whose sum over a planar interface's nodes
    is its area.  Axisymmetric: g is the section's mass gradient (PSContactP2G),
@@ -93,12 +101,10 @@ static inline PetscReal PairArea(const PSSolver *S, const PetscInt ip[3], const 
   const PetscReal ga = PetscSqrtReal(gm[a][0] * gm[a][0] + gm[a][1] * gm[a][1] + gm[a][2] * gm[a][2]);
   const PetscReal gb = PetscSqrtReal(gm[b][0] * gm[b][0] + gm[b][1] * gm[b][1] + gm[b][2] * gm[b][2]);
   const PetscReal A  = 0.5 * (ga * V[a] / m[a] + gb * V[b] / m[b]);
-  if (S->axi) {
-    const PetscReal ri = S->scene->lower[0] + ip[0] * S->h[0];
-    const PetscReal r0 = PetscMax(S->scene->lower[0], ri - 0.5 * S->h[0]), r1 = PetscMin(S->scene->upper[0], ri + 0.5 * S->h[0]);
-    return A * PETSC_PI * (r0 + r1);
-  }
-  return A;
+  PetscReal       r0, r1;
+  if (!S->axi) return A;
+  NodeRing(S, ip, &r0, &r1);
+  return A * PETSC_PI * (r0 + r1);
 }
 
 /* The cohesive law between two adjacent plies' fields (Nairn, CMES 92, 2013,
@@ -205,11 +211,9 @@ static inline PetscBool Filled(const PSSolver *S, const PetscInt ip[3], const Pe
   PetscInt         d, k;
 
   for (d = 0; d < S->dim; d++) {
-    if (d == 0 && S->axi) {
-      /* axisymmetric: the node's ring, r in [r_i - h/2, r_i + h/2] within the
-         domain, times 2 pi (marker volumes are the full revolution's) */
-      const PetscReal ri = S->scene->lower[0] + ip[0] * S->h[0];
-      const PetscReal r0 = PetscMax(S->scene->lower[0], ri - 0.5 * S->h[0]), r1 = PetscMin(S->scene->upper[0], ri + 0.5 * S->h[0]);
+    if (d == 0 && S->axi) { /* axisymmetric: the node's ring (marker volumes are the full revolution's) */
+      PetscReal r0, r1;
+      NodeRing(S, ip, &r0, &r1);
       Vn *= PETSC_PI * (r1 * r1 - r0 * r0);
     } else Vn *= S->h[d] * ((ip[d] <= 0 || ip[d] >= S->scene->cells[d]) ? 0.5 : 1.0);
   }
