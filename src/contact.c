@@ -387,8 +387,6 @@ static void ContactLaw(const PSSolver *S, const PSContact *C, const PetscInt ip[
    markers); elsewhere they are partial and unused. */
 PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
-  PetscReal       V0 = -1.0; /* the GIMP size G was set for (PSMarkerWeights) */
-  PSGimpSize      G  = {{0}, {0}, {0}};
   PSContact     *C   = S->contact;
   const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1, fs = C->fs, nf = C->nfield;
   PetscInt       p, a, b, c, d, e, lo[3], hi[3], i, j, k;
@@ -407,7 +405,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
   /* the fields' masses */
   for (p = 0; p < f->n; p++) {
     PSShape          shl, *sh = &shl;
-    PSMarkerWeights(S, f, p, dim, S->axi, &V0, &G, &shl);
+    PSMarkerWeights(S, p, dim, &shl);
     const PetscInt  kf = MarkerField(C, f, p);
     const PetscReal m  = f->mass[p];
     PetscCheck(kf >= 0 && kf < nf, PETSC_COMM_SELF, PETSC_ERR_PLIB, "marker %lld of body %" PetscInt_FMT " has no velocity field", (long long)f->id[p], f->body[p]);
@@ -433,7 +431,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
   /* the near markers, and their full fields */
   for (p = 0; p < f->n; p++) {
     PSShape          shl, *sh = &shl;
-    PSMarkerWeights(S, f, p, dim, S->axi, &V0, &G, &shl);
+    PSMarkerWeights(S, p, dim, &shl);
     const PetscInt   kf = MarkerField(C, f, p);
     const PetscReal *v = &f->v[p * dim], m = f->mass[p], V = f->vol[p], mD = f->Di ? m * PetscSqr(1.0 - f->Di[p]) : 0.0; /* m psi_p */
     PetscReal        s[3][3], mg;
@@ -535,8 +533,6 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
    and into the single field (S->hv) the difference from what PSMUSLG2P put */
 PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt)
 {
-  PetscReal       V0 = -1.0; /* the GIMP size G was set for (PSMarkerWeights) */
-  PSGimpSize      G  = {{0}, {0}, {0}};
   PSContact      *C   = S->contact;
   const PetscInt  dim = S->dim, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1, fs = C->fs;
   const PetscInt  dof = PSGridDof(S), fo = dof - dim, hdof = PSReprojectDof(S), ho = hdof - dim;
@@ -548,7 +544,7 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
   for (p = 0; p < f->n; p++) {
     if (!C->near[p]) continue; /* away from shared nodes: the single field's G2P is its own */
     PSShape          shl, *sh = &shl;
-    PSMarkerWeights(S, f, p, dim, S->axi, &V0, &G, &shl);
+    PSMarkerWeights(S, p, dim, &shl);
     const PetscInt k  = MarkerField(C, f, p);
     PetscReal     *v = &f->v[p * dim], m = f->mass[p], vpic[3] = {0, 0, 0}, dv[3] = {0, 0, 0}, wD = 0.0, sD = 0.0, vs[3] = {0, 0, 0}, dm[3], df[3] = {0, 0, 0}, e0 = 0.0, e1 = 0.0;
     for (d = 0; d < dim; d++) { /* PSMUSLG2P's velocity (its re-projection momentum is replaced below), and the one before */
@@ -632,8 +628,6 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
    the single field elsewhere, into S->Lp */
 PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
-  PetscReal       V0 = -1.0; /* the GIMP size G was set for (PSMarkerWeights) */
-  PSGimpSize      G  = {{0}, {0}, {0}};
   PSContact     *C   = S->contact;
   const PetscInt dim = S->dim, nf = C->nfield, fs = C->fs, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1;
   const PetscInt hdof = PSReprojectDof(S), ho = hdof - dim;
@@ -674,7 +668,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   for (p = 0; p < f->n; p++) {
     if (!C->near[p]) continue; /* away from shared nodes: PSMUSLReproject's L_p is its own */
     PSShape          shl, *sh = &shl;
-    PSMarkerWeights(S, f, p, dim, S->axi, &V0, &G, &shl);
+    PSMarkerWeights(S, p, dim, &shl);
     const PetscInt k  = MarkerField(C, f, p);
     PetscReal      L[3][3] = {{0}};
     for (c = 0; c < nz; c++)

@@ -48,15 +48,17 @@ static inline void PSGimpSizeSet(PetscReal lp, const PetscReal ih[], PSGimpSize 
   }
 }
 
-/* where a marker sits: its first node and, per direction, its offset f in
-   cells from that node (and for GIMP g, its reach past the middle node's
-   near side; see below).  64 bytes: what the MUSL passes keep between P2G and
-   the gradient (PSShapeWeights turns it into the weights; storing those, 160
-   bytes, cost P2G more than evaluating them again costs the later passes) */
+/* where a marker sits: its first node, per direction its offset f in cells
+   from that node and, for GIMP, the two terms of its reach past the middle
+   node's near side (see PSShapeWeights).  88 bytes: what the MUSL passes keep
+   between P2G and the gradient (PSShapeWeights turns it into the weights in a
+   few operations, without the marker's size; storing the weights, 160
+   bytes, cost P2G more than rebuilding them costs the later passes) */
 typedef struct PSShapeAt_ {
   PetscInt  i0[3]; /* first DMDA node per direction */
   PetscReal f[3];  /* x_p/h - (i0 - PS_PAD) (-) */
-  PetscReal g[3];  /* GIMP: max(0, f - (1 - l)) (-); 0 for the other shapes */
+  PetscReal q[3];  /* GIMP: g^2/4l, g = max(0, f - (1 - l)) (-); 0 for the other shapes */
+  PetscReal gi[3]; /* GIMP: g/2l (-); 0 for the other shapes */
 } PSShapeAt;
 
 /* where marker x (m) sits; G: GIMP's size (PSGimpSizeSet, unused by the
@@ -73,12 +75,16 @@ static inline void PSShapeLocate(PSShapeType type, PetscInt dim, const PetscReal
     if (d < dim) c = type == PS_SHAPE_LINEAR ? floor(xi) : type == PS_SHAPE_BSPLINE2 ? floor(xi - 0.5) : floor(xi - 1.0 - G->l[d]) + 1.0;
     A->i0[d] = d < dim ? (PetscInt)c + PS_PAD : 0;
     A->f[d]  = xi - c;
-    A->g[d]  = type == PS_SHAPE_GIMP && d < dim ? PetscMax(0.0, A->f[d] - (1.0 - G->l[d])) : 0.0;
+    if (type == PS_SHAPE_GIMP && d < dim) {
+      const PetscReal g = PetscMax(0.0, A->f[d] - (1.0 - G->l[d]));
+      A->q[d]           = g * g * G->i4l[d];
+      A->gi[d]          = g * G->i2l[d];
+    } else A->q[d] = A->gi[d] = 0.0;
   }
 }
 
 /* the weights and their derivatives where A says the marker sits */
-static inline void PSShapeWeights(PSShapeType type, PetscInt dim, const PetscReal ih[], const PSGimpSize *G, const PSShapeAt *A, PSShape *S)
+static inline void PSShapeWeights(PSShapeType type, PetscInt dim, const PetscReal ih[], const PSShapeAt *A, PSShape *S)
 {
   PetscInt d, k;
   for (d = 0; d < dim; d++) {
@@ -111,7 +117,7 @@ static inline void PSShapeWeights(PSShapeType type, PetscInt dim, const PetscRea
            dS/dd = -1 + g/2l, 1 - g/l, g/2l:
          no branches, no division (the piecewise form divided twice per node
          and mispredicted off the lattice) */
-      const PetscReal q = A->g[d] * A->g[d] * G->i4l[d], gi = A->g[d] * G->i2l[d];
+      const PetscReal q = A->q[d], gi = A->gi[d];
       S->w[d][0]  = 1.0 - f + q;
       S->w[d][1]  = f - 2.0 * q;
       S->w[d][2]  = q;

@@ -98,30 +98,10 @@ static inline PetscReal HalfSize(PetscInt dim, PetscReal V0)
   return 0.5 * (dim == 3 ? cbrt(V0) : sqrt(V0));
 }
 
-/* GIMP's size of marker p into *G (other shapes: nothing).  Axisymmetric:
-   from the marker's own section; otherwise from V0, left in *G while V0
-   repeats (*V0c: the V0 it was set for; uniform insertion repeats it, so
-   cbrt and the divisions run once per run of equal V0).  The caller's *V0c
-   starts at -1. */
-static inline void PSMarkerGimpSize(const PSSolver *S, const PSFields *f, PetscInt p, PetscInt dim, PetscBool axi, PetscReal *V0c, PSGimpSize *G)
-{
-  if (S->run.shape != PS_SHAPE_GIMP) return;
-  if (axi) {
-    /* the initial section area A0 = V0 / (2 pi r0), r0 = r_p / F_tt and
-       F_tt = V / (V0 det F_rz): A0 = V / (2 pi r_p det F_rz) */
-    const PetscReal *F = &f->F[4 * p];
-    PSGimpSizeSet(0.5 * PetscSqrtReal(f->vol[p] / (2.0 * PETSC_PI * f->x[2 * p] * (F[0] * F[3] - F[1] * F[2]))), S->ih, G);
-  } else if (f->V0[p] != *V0c) {
-    *V0c = f->V0[p];
-    PSGimpSizeSet(HalfSize(dim, *V0c), S->ih, G);
-  }
-}
-
 /* marker p's weights where MUSL's P2G located it this step (S->at) */
-static inline void PSMarkerWeights(const PSSolver *S, const PSFields *f, PetscInt p, PetscInt dim, PetscBool axi, PetscReal *V0c, PSGimpSize *G, PSShape *sh)
+static inline void PSMarkerWeights(const PSSolver *S, PetscInt p, PetscInt dim, PSShape *sh)
 {
-  PSMarkerGimpSize(S, f, p, dim, axi, V0c, G);
-  PSShapeWeights(S->run.shape, dim, S->ih, G, &S->at[p], sh);
+  PSShapeWeights(S->run.shape, dim, S->ih, &S->at[p], sh);
 }
 
 /* Cauchy stress minus q (the force's stress) as a 3x3 */

@@ -8,9 +8,10 @@
     4. re-project (mv)_i = sum_p N_ip m_p v_p^{n+1}, v_i = (mv)_i / m_i        (PSReproject)
     5. L_p = sum_i v_i (x) grad N_ip of the re-projected velocity, into S->Lp   (PSReproject)
   All use N_ip at x_p^n: P2G locates each marker (PSShapeLocate: its first
-  node and offsets, S->at, 64 bytes) and the later passes (and contact.c)
+  node and offsets, S->at, 88 bytes) and the later passes (and contact.c)
   turn that into the weights again (PSShapeWeights, a few operations per
-  direction: storing the 160-byte weights cost P2G more).
+  direction, without the marker's size: storing the 160-byte weights cost
+  P2G more).
 
   Axisymmetric 2D (x = r, y = z; S->axi): the weak form of the momentum
   equation in cylindrical coordinates with the full revolution's V_p and m_p
@@ -96,6 +97,25 @@ static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, c
   }
 }
 
+/* GIMP's size of marker p into *G (other shapes: nothing).  Axisymmetric:
+   from the marker's own section; otherwise from V0, left in *G while V0
+   repeats (*V0c: the V0 it was set for; uniform insertion repeats it, so
+   cbrt and the divisions run once per run of equal V0).  The caller's *V0c
+   starts at -1. */
+static inline __attribute__((always_inline)) void MarkerGimpSize(const PSSolver *S, const PSFields *f, PetscInt p, PetscInt dim, PetscBool axi, PetscReal *V0c, PSGimpSize *G)
+{
+  if (S->run.shape != PS_SHAPE_GIMP) return;
+  if (axi) {
+    /* the initial section area A0 = V0 / (2 pi r0), r0 = r_p / F_tt and
+       F_tt = V / (V0 det F_rz): A0 = V / (2 pi r_p det F_rz) */
+    const PetscReal *F = &f->F[4 * p];
+    PSGimpSizeSet(0.5 * PetscSqrtReal(f->vol[p] / (2.0 * PETSC_PI * f->x[2 * p] * (F[0] * F[3] - F[1] * F[2]))), S->ih, G);
+  } else if (f->V0[p] != *V0c) {
+    *V0c = f->V0[p];
+    PSGimpSizeSet(HalfSize(dim, *V0c), S->ih, G);
+  }
+}
+
 static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, PetscReal *g)
 {
   PetscReal  V0 = -1.0;
@@ -104,9 +124,9 @@ static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFi
   for (p = 0; p < f->n; p++) {
     PSShapeAt at;
     PSShape   sh; /* locals: stores into g cannot alias them */
-    PSMarkerGimpSize(S, f, p, dim, axi, &V0, &G);
+    MarkerGimpSize(S, f, p, dim, axi, &V0, &G);
     PSShapeLocate(S->run.shape, dim, S->scene->lower, S->ih, &f->x[p * dim], &G, &at);
-    PSShapeWeights(S->run.shape, dim, S->ih, &G, &at, &sh);
+    PSShapeWeights(S->run.shape, dim, S->ih, &at, &sh);
     P2GMarker(S, f, p, ix, dim, N, axi, &sh, g);
     S->at[p] = at; /* after the scatter, when the stores just made have reached the cache */
   }
@@ -114,18 +134,16 @@ static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFi
 
 /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new, dx_p = dt sum N v_new;
    4. and in the same pass the re-projection (mv)_i += N_ip m_p v_p^{n+1} */
-static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *restrict g, PetscReal *restrict hv)
+static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *restrict g, PetscReal *restrict hv)
 {
   const PetscInt  dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1;
   const PetscInt  sy = dof * ix->gm[0], sz = sy * ix->gm[1], hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
   const PetscReal apic = S->run.pic_fraction;
-  PetscReal       V0 = -1.0;
-  PSGimpSize      G = {{0}, {0}, {0}};
   PetscInt        p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
     PSShape          shl, *sh = &shl; /* a local: stores into hv cannot alias it */
-    PSMarkerWeights(S, f, p, dim, axi, &V0, &G, &shl);
+    PSMarkerWeights(S, p, dim, &shl);
     const PetscInt   o  = Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2]);
     const PetscReal *g0 = &g[dof * o];
     PetscReal       *h0 = &hv[hdof * o], *v = &f->v[p * dim], m = f->mass[p];
@@ -195,13 +213,11 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
 static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *restrict hv)
 {
   const PetscInt hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1, hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
-  PetscReal      V0 = -1.0;
-  PSGimpSize     G = {{0}, {0}, {0}};
   PetscInt       p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
     PSShape          shl, *sh = &shl;
-    PSMarkerWeights(S, f, p, dim, axi, &V0, &G, &shl);
+    PSMarkerWeights(S, p, dim, &shl);
     const PetscReal *h0 = &hv[hdof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])];
     PetscReal       *L  = &S->Lp[9 * p];
     if (dim == 3) {
@@ -304,10 +320,9 @@ PetscErrorCode PSMUSLG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal 
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
-#define G2P3(n)  G2PAll(S, f, ix, dt, 3, n, PETSC_FALSE, g, hv)
-#define G2P2(n)  G2PAll(S, f, ix, dt, 2, n, PETSC_FALSE, g, hv)
-#define G2P2A(n) G2PAll(S, f, ix, dt, 2, n, PETSC_TRUE, g, hv)
-  PS_MUSL_DISPATCH_AXI(G2P3, G2P2, G2P2A);
+#define G2P3(n) G2PAll(S, f, ix, dt, 3, n, g, hv)
+#define G2P2(n) G2PAll(S, f, ix, dt, 2, n, g, hv)
+  PS_MUSL_DISPATCH(G2P3, G2P2);
   PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

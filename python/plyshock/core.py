@@ -175,10 +175,10 @@ def _grid_bytes_per_node(dim):
 
 
 # per marker besides its fields: the step's scratch (displacement; under musl
-# where the marker sits, PSShapeAt of src/shape.h, 64 bytes, and L_p, 9 reals)
+# where the marker sits, PSShapeAt of src/shape.h, 88 bytes, and L_p, 9 reals)
 # and a quarter of spare swarm buffer
 def _marker_bytes(dim, field_bytes):
-    return int(1.25 * field_bytes) + 8 * dim + 64 + 9 * 8
+    return int(1.25 * field_bytes) + 8 * dim + 88 + 9 * 8
 
 
 def machine_memory():
