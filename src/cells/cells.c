@@ -140,6 +140,7 @@ PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
   PSCells        *C   = S->cells;
   const PetscInt  dim = S->dim, nz = dim == 3 ? 2 : 1;
   const PetscReal w   = dim == 3 ? 0.125 : 0.25;
+  const PetscInt  sj = ix->gm[0], sk = ix->gm[0] * ix->gm[1]; /* node strides */
   PetscInt        i, j, k, a, b, c, m;
 
   PetscFunctionBeginUser;
@@ -151,7 +152,19 @@ PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
         PetscReal        Mc = 0.0;
         for (m = 0; m < C->nmat; m++) Mc += u[m * C->ms + PS_CM];
         if (Mc == 0.0) continue;
-        /* corners: DMDA nodes i + PS_PAD + a, ... (those in the local node array) */
+        /* corners: DMDA nodes i + PS_PAD + a, ... (those in the local node array;
+           all of them but at the box's edge) */
+        if (i + PS_PAD >= ix->gs[0] && i + PS_PAD + 1 < ix->gs[0] + ix->gm[0] && j + PS_PAD >= ix->gs[1] && j + PS_PAD + 1 < ix->gs[1] + ix->gm[1] &&
+            (dim < 3 || (k + PS_PAD >= ix->gs[2] && k + PS_PAD + 1 < ix->gs[2] + ix->gm[2]))) {
+          PetscReal *mc = &C->mcn[Lidx(ix, i + PS_PAD, j + PS_PAD, dim == 3 ? k + PS_PAD : 0)];
+          for (c = 0; c < nz; c++, mc += sk) {
+            mc[0] += w * Mc;
+            mc[1] += w * Mc;
+            mc[sj] += w * Mc;
+            mc[sj + 1] += w * Mc;
+          }
+          continue;
+        }
         for (c = 0; c < nz; c++)
           for (b = 0; b < 2; b++)
             for (a = 0; a < 2; a++) {

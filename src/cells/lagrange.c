@@ -45,57 +45,83 @@
 
 static PetscLogEvent EV_C2G = 0, EV_Lag = 0, EV_Pred = 0;
 
-/* corner a (x fastest, 0..2^dim - 1) of a cell: offsets and signs */
-static inline void Corner(PetscInt dim, PetscInt a, PetscInt o[3], PetscReal s[3])
+/* A cell's corners, the same for every cell of a phase: corner a (x
+   fastest, 0..2^dim - 1) is node o + off[a] of the ghosted local array, o the
+   cell's lower corner; grad N_a at the cell's centre (s_d / h_d times 1/2 for
+   each other direction: the bilinear (trilinear) element's one-point
+   quadrature); the hourglass patterns G_m(a) (2D xy; 3D xy, yz, xz, xyz;
+   Flanagan & Belytschko 1981).  Built once per phase (CornersBuild), so the
+   cells' loops do no index arithmetic, division or branching per corner. */
+typedef struct {
+  PetscInt  dim, nco, nh; /* corners, hourglass modes */
+  PetscInt  off[8];       /* node offsets from corner 0 */
+  PetscReal gN[8][3];     /* grad N_a at the centre (1/m) */
+  PetscReal G[8][4];      /* hourglass patterns */
+  PetscReal khg;          /* hourglass coefficient over min h and 2^dim: kappa / (h 2^dim) (1/m) */
+} PSCorners;
+
+static void CornersBuild(const PSSolver *S, const PSIndex *ix, PSCorners *K)
 {
-  PetscInt d;
-  for (d = 0; d < 3; d++) {
-    o[d] = d < dim ? (a >> d) & 1 : 0;
-    s[d] = o[d] ? 1.0 : -1.0;
+  const PetscInt dim = S->dim;
+  PetscInt       a, d;
+
+  K->dim = dim;
+  K->nco = 1 << dim;
+  K->nh  = dim == 3 ? 4 : 1;
+  for (a = 0; a < K->nco; a++) {
+    PetscReal s[3];
+    PetscInt  o[3];
+    for (d = 0; d < 3; d++) {
+      o[d] = d < dim ? (a >> d) & 1 : 0;
+      s[d] = o[d] ? 1.0 : -1.0;
+      K->gN[a][d] = d < dim ? s[d] / S->h[d] / (dim == 3 ? 4.0 : 2.0) : 0.0;
+    }
+    K->off[a]  = (o[2] * ix->gm[1] + o[1]) * ix->gm[0] + o[0];
+    K->G[a][0] = s[0] * s[1];
+    K->G[a][1] = s[1] * s[2];
+    K->G[a][2] = s[0] * s[2];
+    K->G[a][3] = s[0] * s[1] * s[2];
   }
+  K->khg = S->cells->hourglass / PetscMin(S->h[0], S->h[1]) / K->nco;
 }
 
-/* hourglass patterns of a cell's corners: 2D xy; 3D xy, yz, xz, xyz */
-static inline PetscInt Hourglass(PetscInt dim, const PetscReal s[3], PetscReal G[4])
+/* local index of cell (i, j, k)'s lower corner node */
+static inline PetscInt CellNode(const PSIndex *ix, PetscInt dim, PetscInt i, PetscInt j, PetscInt k)
 {
-  G[0] = s[0] * s[1];
-  if (dim == 2) return 1;
-  G[1] = s[1] * s[2];
-  G[2] = s[0] * s[2];
-  G[3] = s[0] * s[1] * s[2];
-  return 4;
+  return Lidx(ix, i + PS_PAD, j + PS_PAD, dim == 3 ? k + PS_PAD : 0);
 }
 
 /* the hourglass viscosity of a cell, kappa rho c V_c / h / 2^dim, rho its
    mass per cell volume (a sliver's damping scales with its mass) */
-static inline PetscReal HourglassKappa(const PSSolver *S, const PSCells *C, PetscReal Mc, PetscReal cmax)
+static inline PetscReal HourglassKappa(const PSCorners *K, PetscReal Mc, PetscReal cmax)
 {
-  return C->hourglass * (Mc / C->Vc * cmax) * C->Vc / PetscMin(S->h[0], S->h[1]) / (1 << S->dim);
+  return K->khg * Mc * cmax;
 }
 
-/* the hourglass rates g_m = sum_j G_m(j) v_j of cell (i, j, k) from nodal
-   velocities v (dim per node), or nodal momenta over the masses mass when
-   mass is given; the corners' node indices into oc; returns the modes */
-static inline PetscInt HourglassRates(const PSSolver *S, const PSIndex *ix, PetscInt i, PetscInt j, PetscInt k, const PetscReal *v, const PetscReal *mass, PetscReal hg[4][3], PetscInt oc[8])
+/* the hourglass rates g_m = sum_a G_m(a) v_a of the cell with lower corner
+   node o, from nodal velocities v (dim per node), or nodal momenta over the
+   masses mass when mass is given; dim a constant where it is called, so the
+   loops unroll (HourglassRates picks 2D or 3D) */
+static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, PetscInt o, const PetscReal *v, const PetscReal *mass, PetscReal hg[4][3])
 {
-  const PetscInt dim = S->dim;
-  PetscInt       a, d, e, nh = 0;
-  PetscReal      G[4];
+  const PetscInt nco = 1 << dim, nh = dim == 3 ? 4 : 1;
+  PetscInt       a, d, e;
 
   for (e = 0; e < 4; e++)
     for (d = 0; d < 3; d++) hg[e][d] = 0.0;
-  for (a = 0; a < (1 << dim); a++) {
-    PetscInt  off[3];
-    PetscReal s[3];
-    Corner(dim, a, off, s);
-    oc[a] = Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0);
-    nh    = Hourglass(dim, s, G);
+  for (a = 0; a < nco; a++) {
+    const PetscInt oa = o + K->off[a];
     for (d = 0; d < dim; d++) {
-      const PetscReal vd = mass ? (mass[oc[a]] > 0.0 ? v[dim * oc[a] + d] / mass[oc[a]] : 0.0) : v[dim * oc[a] + d];
-      for (e = 0; e < nh; e++) hg[e][d] += G[e] * vd;
+      const PetscReal vd = mass ? (mass[oa] > 0.0 ? v[dim * oa + d] / mass[oa] : 0.0) : v[dim * oa + d];
+      for (e = 0; e < nh; e++) hg[e][d] += K->G[a][e] * vd;
     }
   }
-  return nh;
+}
+
+static inline void HourglassRates(const PSCorners *K, PetscInt o, const PetscReal *v, const PetscReal *mass, PetscReal hg[4][3])
+{
+  if (K->dim == 2) HourglassRatesDim(K, 2, o, v, mass, hg);
+  else HourglassRatesDim(K, 3, o, v, mass, hg);
 }
 
 /* mixture values of a cell: material mass and volume, and its signal speed:
@@ -117,15 +143,19 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
     if (u[m * C->ms + PS_CM] > 0.0 && u[m * C->ms + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
-PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
+/* the cells' mass and force to the nodes: dim a constant where it is called (PSCellsToGrid picks 2D or 3D), so
+   the per-cell loops unroll */
+static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dim = S->dim, nco = 1 << dim, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
+  const PetscInt  nco = 1 << dim, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
   PetscInt        i, j, k, m, a, d, e, n = 0;
+  PSCorners       K;
 
   PetscFunctionBeginUser;
+  CornersBuild(S, ix, &K);
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
   PetscCall(PSCellsEOSCache(S));
@@ -134,8 +164,8 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
         const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, G[4], hg[4][3], kap;
-        PetscInt         o[8], nh;
+        const PetscInt   o  = CellNode(ix, dim, i, j, k);
+        PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
         CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* sum_k V_k s_k - (p_f + q) V_m I, p_f the closure's pressure (closure.c) */
@@ -159,21 +189,16 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
           }
         }
         for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
-        /* corners: node indices, and the hourglass rates of the cell materials' nodal velocities */
-        nh  = HourglassRates(S, ix, i, j, k, C->P, C->mcn, hg, o);
-        kap = HourglassKappa(S, C, Mc, cmax);
+        /* the hourglass rates of the cell materials' nodal velocities; the corners' mass and force */
+        HourglassRates(&K, o, C->P, C->mcn, hg);
+        kap = HourglassKappa(&K, Mc, cmax);
         for (a = 0; a < nco; a++) {
-          PetscInt  off[3];
-          PetscReal s[3], gN[3], *gn = &g[dof * o[a]];
-          Corner(dim, a, off, s);
-          nh = Hourglass(dim, s, G);
-          /* grad N_i at the centre: s_d / h_d times 1/2 for each other direction */
-          for (d = 0; d < 3; d++) gN[d] = d < dim ? s[d] / S->h[d] / (dim == 3 ? 4.0 : 2.0) : 0.0;
+          PetscReal *gn = &g[dof * (o + K.off[a])];
           gn[0] += Mc / nco;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
-            for (e = 0; e < dim; e++) fd -= sig[d][e] * gN[e];
-            for (e = 0; e < nh; e++) fd -= kap * G[e] * hg[e][d];
+            for (e = 0; e < dim; e++) fd -= sig[d][e] * K.gN[a][e];
+            for (e = 0; e < K.nh; e++) fd -= kap * K.G[a][e] * hg[e][d];
             gn[fo + d] += fs * fd;
           }
         }
@@ -184,27 +209,38 @@ PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* L at the centre of cell (i, j, k) from the nodal velocities v (stride vs
-   from v0) of its corners; grad N as in PSCellsToGrid */
-static inline void CellGradient(const PSSolver *S, const PSIndex *ix, PetscInt i, PetscInt j, PetscInt k, const PetscReal *v0, PetscInt vs, PetscReal L[3][3], PetscReal vmax[1])
+PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
 {
-  const PetscInt dim = S->dim, nco = 1 << dim;
-  PetscInt       a, d, e;
+  PetscFunctionBeginUser;
+  if (S->dim == 2) PetscCall(PSCellsToGridDim(S, ix, dt, 2));
+  else PetscCall(PSCellsToGridDim(S, ix, dt, 3));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* L at the centre of the cell with lower corner node o from the nodal
+   velocities v (dim per node), and the largest corner speed */
+static inline void CellGradientDim(const PSCorners *K, const PetscInt dim, PetscInt o, const PetscReal *v0, PetscReal L[3][3], PetscReal vmax[1])
+{
+  PetscInt  a, d, e;
+  PetscReal v2max = 0.0;
   for (d = 0; d < 3; d++)
     for (e = 0; e < 3; e++) L[d][e] = 0.0;
-  *vmax = 0.0;
-  for (a = 0; a < nco; a++) {
-    PetscInt         off[3];
-    PetscReal        s[3], v2 = 0.0;
-    const PetscReal *v;
-    Corner(dim, a, off, s);
-    v = &v0[vs * Lidx(ix, i + PS_PAD + off[0], j + PS_PAD + off[1], dim == 3 ? k + PS_PAD + off[2] : 0)];
+  for (a = 0; a < (1 << dim); a++) {
+    const PetscReal *v  = &v0[dim * (o + K->off[a])];
+    PetscReal        v2 = 0.0;
     for (d = 0; d < dim; d++) {
       v2 += v[d] * v[d];
-      for (e = 0; e < dim; e++) L[d][e] += v[d] * s[e] / S->h[e] / (dim == 3 ? 4.0 : 2.0);
+      for (e = 0; e < dim; e++) L[d][e] += v[d] * K->gN[a][e];
     }
-    *vmax = PetscMax(*vmax, PetscSqrtReal(v2));
+    v2max = PetscMax(v2max, v2);
   }
+  *vmax = PetscSqrtReal(v2max);
+}
+
+static inline void CellGradient(const PSCorners *K, PetscInt o, const PetscReal *v0, PetscReal L[3][3], PetscReal vmax[1])
+{
+  if (K->dim == 2) CellGradientDim(K, 2, o, v0, L, vmax);
+  else CellGradientDim(K, 3, o, v0, L, vmax);
 }
 
 /* one material's deviator over the step: Jaumann rate 2G D' + W s - s W, J2
@@ -287,15 +323,19 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
   C->sat[6] = rho;
 }
 
-PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
+/* the predictor-corrector: dim a constant where it is called (PSCellsPredict picks 2D or 3D), so
+   the per-cell loops unroll */
+static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dim = S->dim, dof = PSGridDof(S), nco = 1 << dim, ns = C->ns, hsd = PSCellsHalfSize(C);
+  const PetscInt  dof = PSGridDof(S), nco = 1 << dim, ns = C->ns, hsd = PSCellsHalfSize(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   PetscReal      *g = S->g, hm = 0.0;
   PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0;
+  PSCorners       K;
 
   PetscFunctionBeginUser;
+  CornersBuild(S, ix, &K);
   if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
   PetscCall(PetscLogEventBegin(EV_Pred, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
@@ -314,12 +354,12 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
         const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
         PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * (1 + ns)], *gh = qh + 1;
-        PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, G[4], hgh[4][3], hg0[4][3], kap;
-        PetscInt         oc[8], nh;
+        const PetscInt   oc = CellNode(ix, dim, i, j, k);
+        PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* the half-step state at v^{n+1/2*}: half the volume change, shared */
-        CellGradient(S, ix, i, j, k, C->vh, dim, L, &vmax);
+        CellGradient(&K, oc, C->vh, L, &vmax);
         trD = L[0][0] + L[1][1] + L[2][2];
         dVh = 0.5 * C->Vc * dt * trD;
         PetscCall(PSCellsShareVolume(S, u, ec, dVh, dVk, NULL, NULL));
@@ -366,23 +406,19 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
-        nh = HourglassRates(S, ix, i, j, k, C->vh, NULL, hgh, oc);
-        (void)HourglassRates(S, ix, i, j, k, C->P, C->mcn, hg0, oc);
+        HourglassRates(&K, oc, C->vh, NULL, hgh);
+        HourglassRates(&K, oc, C->P, C->mcn, hg0);
         for (e = 0; e < 4; e++)
           for (d = 0; d < 3; d++) gh[3 * e + d] = hgh[e][d];
-        kap = HourglassKappa(S, C, Mc, cmax);
+        kap = HourglassKappa(&K, Mc, cmax);
         /* the force change at the corners */
         for (a = 0; a < nco; a++) {
-          PetscInt  off[3];
-          PetscReal sg[3], gN[3];
-          Corner(dim, a, off, sg);
-          nh = Hourglass(dim, sg, G);
-          for (d = 0; d < 3; d++) gN[d] = d < dim ? sg[d] / S->h[d] / (dim == 3 ? 4.0 : 2.0) : 0.0;
+          PetscReal *dfa = &C->df[dim * (oc + K.off[a])];
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
-            for (e = 0; e < dim; e++) fd -= dsig[d][e] * gN[e];
-            for (e = 0; e < nh; e++) fd -= kap * G[e] * (hgh[e][d] - hg0[e][d]);
-            C->df[dim * oc[a] + d] += fd;
+            for (e = 0; e < dim; e++) fd -= dsig[d][e] * K.gN[a][e];
+            for (e = 0; e < K.nh; e++) fd -= kap * K.G[a][e] * (hgh[e][d] - hg0[e][d]);
+            dfa[d] += fd;
           }
         }
       }
@@ -410,15 +446,27 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
+PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (S->dim == 2) PetscCall(PSCellsPredictDim(S, ix, dt, 2));
+  else PetscCall(PSCellsPredictDim(S, ix, dt, 3));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the Lagrangian phase: dim a constant where it is called (PSCellsLagrange picks 2D or 3D), so
+   the per-cell loops unroll */
+static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dim = S->dim, dof = PSGridDof(S);
+  const PetscInt  dof = PSGridDof(S);
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
   PetscInt        i, j, k, m, d, o, n = 0;
+  PSCorners       K;
 
   PetscFunctionBeginUser;
+  CornersBuild(S, ix, &K);
   if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
   PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
@@ -444,7 +492,8 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
         const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * (1 + C->ns)]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
-        CellGradient(S, ix, i, j, k, C->vh, dim, L, &vmax);
+        const PetscInt   oc = CellNode(ix, dim, i, j, k);
+        CellGradient(&K, oc, C->vh, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
            each moving with the mean velocity of its corners: the remap moves
            exactly this back) and its share among materials, markers, void */
@@ -463,10 +512,11 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
-          const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1, kap = HourglassKappa(S, C, Mc, cmax);
+          const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1, kap = HourglassKappa(&K, Mc, cmax);
           PetscReal        hg[4][3];
-          PetscInt         oc[8], e, nh = HourglassRates(S, ix, i, j, k, C->vh, NULL, hg, oc);
-          for (e = 0; e < nh; e++)
+          PetscInt         e;
+          HourglassRates(&K, oc, C->vh, NULL, hg);
+          for (e = 0; e < K.nh; e++)
             for (d = 0; d < dim; d++) hgw += kap * gh[3 * e + d] * hg[e][d] * dt;
         }
         /* each material: energy, pressure, deviator */
@@ -516,6 +566,14 @@ PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+PetscErrorCode PSCellsLagrange(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (S->dim == 2) PetscCall(PSCellsLagrangeDim(S, ix, dt, 2));
+  else PetscCall(PSCellsLagrangeDim(S, ix, dt, 3));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* c + |v| over the cells (the first dt, restarts) */
 PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
 {
@@ -523,9 +581,11 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
   PSIndex   ix;
   PetscInt  i, j, k, a, d, n = 0;
   PetscReal smax = 0.0;
+  PSCorners K;
 
   PetscFunctionBeginUser;
   PetscCall(PSGridIndex(S->da, &ix));
+  CornersBuild(S, &ix, &K);
   PetscCall(PSCellsEOSCache(S));
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
@@ -533,11 +593,9 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
         PetscReal Mc, Vm, cmax, vmax = 0.0;
         CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * n * C->nmat], &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
-        for (a = 0; a < (1 << S->dim); a++) {
-          PetscInt  off[3], o;
-          PetscReal s[3], v2 = 0.0;
-          Corner(S->dim, a, off, s);
-          o = Lidx(&ix, i + PS_PAD + off[0], j + PS_PAD + off[1], S->dim == 3 ? k + PS_PAD + off[2] : 0);
+        for (a = 0; a < K.nco; a++) {
+          const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + K.off[a];
+          PetscReal      v2 = 0.0;
           for (d = 0; d < S->dim; d++) v2 += C->mcn[o] > 0.0 ? PetscSqr(C->P[S->dim * o + d] / C->mcn[o]) : 0.0;
           vmax = PetscMax(vmax, PetscSqrtReal(v2));
         }

@@ -159,33 +159,48 @@ static inline PetscInt Node(const PSIndex *ix, PetscInt dim, const PetscInt n[3]
   return Lidx(ix, n[0] + PS_PAD, n[1] + PS_PAD, dim == 3 ? n[2] + PS_PAD : 0);
 }
 
-static inline PetscBool OwnedNode(const PSIndex *ix, PetscInt dim, const PetscInt n[3])
+/* physical node index n along e is in this rank's owned range */
+static inline PetscBool OwnedIndex(const PSIndex *ix, PetscInt e, PetscInt n)
 {
-  PetscInt e;
-  for (e = 0; e < dim; e++)
-    if (n[e] + PS_PAD < ix->os[e] || n[e] + PS_PAD >= ix->os[e] + ix->om[e]) return PETSC_FALSE;
-  return PETSC_TRUE;
+  return n + PS_PAD >= ix->os[e] && n + PS_PAD < ix->os[e] + ix->om[e] ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* a sweep's directions and strides: along d, the transverse t1 and t2 (t2
+   only in 3D); node strides in the local node array, cell strides in the
+   ghosted cell array */
+typedef struct {
+  PetscInt d, t1, t2;
+  PetscInt sd, s1, s2; /* nodes */
+  PetscInt cd;         /* cells, along d */
+} PSSweepDirs;
+
+static void SweepDirs(const PSCells *C, const PSIndex *ix, PetscInt dim, PetscInt d, PSSweepDirs *w)
+{
+  const PetscInt ns[3] = {1, ix->gm[0], ix->gm[0] * ix->gm[1]}, cs[3] = {1, C->gm[0], C->gm[0] * C->gm[1]};
+  w->d  = d;
+  w->t1 = dim == 3 ? (d + 1) % 3 : 1 - d;
+  w->t2 = dim == 3 ? (d + 2) % 3 : 2;
+  w->sd = ns[d];
+  w->s1 = ns[w->t1];
+  w->s2 = dim == 3 ? ns[w->t2] : 0;
+  w->cd = cs[d];
 }
 
 /* the fluxes through one face (signed, + along d); F = per material (dV, dM,
    dE, dQ...) then the face's volume delta A and the total mass flux */
-static void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, PetscInt d, const PetscInt i[3], PetscReal *F)
+static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal *F)
 {
   const PSCells  *C = S->cells;
-  const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, t1 = dim == 3 ? (d + 1) % 3 : 1 - d, t2 = dim == 3 ? (d + 2) % 3 : 2;
+  const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, d = sw->d;
   const PetscReal A = C->Vc / S->h[d], *v = C->vh;
   const PetscReal *ud;
   PetscReal        delta = 0.0, vol[PS_MAX_CELLMAT], w, side;
-  PetscInt         n[3], a, b, c[3], m, q;
+  PetscInt         a, b, c[3], m, q, o0, uc;
 
   /* the face's displacement: the mean of its corners' velocities along d */
+  o0 = Node(ix, dim, i);
   for (a = 0; a < (dim == 3 ? 2 : 1); a++)
-    for (b = 0; b < 2; b++) {
-      n[d]  = i[d];
-      n[t1] = i[t1] + b;
-      n[t2] = dim == 3 ? i[t2] + a : 0;
-      delta += v[dim * Node(ix, dim, n) + d];
-    }
+    for (b = 0; b < 2; b++) delta += v[dim * (o0 + b * sw->s1 + a * sw->s2) + d];
   delta *= dt / (dim == 3 ? 4.0 : 2.0);
   F[nm * ms]     = delta * A;
   F[nm * ms + 1] = 0.0;
@@ -197,7 +212,8 @@ static void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr
   if (delta > 0.0) c[d] -= 1;
   side = delta > 0.0 ? 1.0 : -1.0;
   if (c[d] < 0 || c[d] >= C->nc[d]) return;
-  ud = &C->u[dof * PSCellIdx(C, c[0], c[1], c[2])];
+  uc = PSCellIdx(C, c[0], c[1], c[2]);
+  ud = &C->u[dof * uc];
   w  = PetscMin(PetscAbsReal(delta) * A / ud[nm * ms + PS_CX_V], 1.0); /* the slab's share of the donor */
   SlabVolumes(S, fr, c, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
   for (m = 0; m < nm; m++) {
@@ -209,13 +225,12 @@ static void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr
     /* van Leer slopes where the donor and its neighbours along d are pure in m */
     pure = blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
     for (a = 0; a < 2 && pure; a++) {
-      PetscInt c2[3] = {c[0], c[1], c[2]};
-      c2[d] += a ? 1 : -1;
-      if (c2[d] < C->gs[d] || c2[d] >= C->gs[d] + C->gm[d]) {
+      const PetscInt c2 = c[d] + (a ? 1 : -1);
+      if (c2 < C->gs[d] || c2 >= C->gs[d] + C->gm[d]) {
         pure = PETSC_FALSE;
         break;
       }
-      nb[a] = &C->u[dof * PSCellIdx(C, c2[0], c2[1], c2[2])];
+      nb[a] = &C->u[dof * (uc + (a ? sw->cd : -sw->cd))];
       if (nb[a][m * ms + PS_CM] <= 0.0 || nb[a][m * ms + PS_CV] <= 0.999 * nb[a][nm * ms + PS_CX_V]) pure = PETSC_FALSE;
     }
     if (pure) {
@@ -233,16 +248,21 @@ static void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr
   }
 }
 
-/* one sweep along d */
-static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d)
+/* one sweep along d; dim a constant where it is called (Sweep picks 2D or
+   3D), so the loops over a face's corners and a node's components unroll */
+static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dim = S->dim, dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
-  const PetscInt  t1 = dim == 3 ? (d + 1) % 3 : 1 - d, t2 = dim == 3 ? (d + 2) % 3 : 2, ncol = dim == 3 ? 4 : 2; /* transverse directions */
+  const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
+  const PetscInt  ncol = dim == 3 ? 4 : 2;
   PetscReal      *F, *K, *VB, *VL, *P = C->P, *Pn = C->Pn;
-  PetscInt        lo[3], hi[3], i[3], e, m, q, nf, a, b;
+  PetscInt        lo[3], hi[3], i[3], e, m, q, nf, a, b, t1, t2;
+  PSSweepDirs     sw;
 
   PetscFunctionBeginUser;
+  SweepDirs(C, ix, dim, d, &sw);
+  t1 = sw.t1;
+  t2 = sw.t2;
   /* faces along d of the cells around the owned nodes, [cs - 1, ce) in every
      direction (clipped to the domain), one more along d */
   for (e = 0; e < 3; e++) {
@@ -262,7 +282,7 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
 #define FIDX(c0, c1, c2) ((((c2) - lo[2]) * (hi[1] - lo[1]) + ((c1) - lo[1])) * (hi[0] - lo[0]) + ((c0) - lo[0]))
   for (i[2] = lo[2]; i[2] < hi[2]; i[2]++)
     for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
-      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) FaceFlux(S, ix, fr, dt, d, i, &F[fs * FIDX(i[0], i[1], i[2])]);
+      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) FaceFlux(S, ix, fr, dt, &sw, dim, i, &F[fs * FIDX(i[0], i[1], i[2])]);
   PetscCall(PetscLogEventEnd(EV_Faces, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_Nodes, 0, 0, 0, 0));
 
@@ -285,19 +305,14 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
     for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
       for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
         const PetscInt o = Lidx(ix, i[0], i[1], i[2]);
-        PetscInt       k, j2[3];
+        PetscInt       k;
         for (q = 0; q < dim; q++) {
           VB[2 * dim * o + 2 * q]     = PETSC_MAX_REAL;
           VB[2 * dim * o + 2 * q + 1] = -PETSC_MAX_REAL;
         }
         for (k = -1; k <= 1; k++) {
-          PetscInt o2;
-          j2[0] = i[0];
-          j2[1] = i[1];
-          j2[2] = i[2];
-          j2[d] += k;
-          if (j2[d] < ix->gs[d] || j2[d] >= ix->gs[d] + ix->gm[d]) continue;
-          o2 = Lidx(ix, j2[0], j2[1], j2[2]);
+          const PetscInt o2 = o + k * sw.sd;
+          if (i[d] + k < ix->gs[d] || i[d] + k >= ix->gs[d] + ix->gm[d]) continue;
           if (C->mcn[o2] <= 0.0) continue;
           for (q = 0; q < dim; q++) {
             const PetscReal vq = VL[dim * o2 + q];
@@ -307,14 +322,11 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
         }
       }
   {
-    /* node index strides: along d and the transverse directions */
-    const PetscInt sd = d == 0 ? 1 : d == 1 ? ix->gm[0] : ix->gm[0] * ix->gm[1];
-    const PetscInt s1 = t1 == 0 ? 1 : t1 == 1 ? ix->gm[0] : ix->gm[0] * ix->gm[1];
-    const PetscInt s2 = dim == 3 ? (t2 == 0 ? 1 : t2 == 1 ? ix->gm[0] : ix->gm[0] * ix->gm[1]) : 0;
+    const PetscInt sd = sw.sd, s1 = sw.s1, s2 = sw.s2;
     for (i[2] = lo[2]; i[2] < (dim == 3 ? hi[2] : 1); i[2]++)
       for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
         for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) {
-          PetscInt  up[3] = {i[0], i[1], i[2]}, nL[3], o0;
+          PetscInt  up[3] = {i[0], i[1], i[2]}, o0;
           PetscReal Flo, Fhi, phi, Mc = 0.0, nu, g;
           PetscBool bl, bu;
           if (i[d] >= hi[d] - 1) continue; /* the extra face index along d */
@@ -327,20 +339,21 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
           phi = 0.5 * (Flo + Fhi) / ncol;
           /* the share of the upwind half cell that crosses the mid-plane: the
              Courant number of the momentum's slope correction */
-          for (m = 0; m < nm; m++) Mc += C->u[dof * PSCellIdx(C, i[0], i[1], i[2]) + m * ms + PS_CM];
+          {
+            const PetscReal *u = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])];
+            for (m = 0; m < nm; m++) Mc += u[m * ms + PS_CM];
+          }
           nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0;
           g  = 0.5 * (1.0 - nu);
-          nL[d]  = i[d];
-          nL[t1] = i[t1];
-          nL[t2] = dim == 3 ? i[t2] : 0;
-          o0     = Node(ix, dim, nL);
+          o0 = Node(ix, dim, i);
           for (a = 0; a < (dim == 3 ? 2 : 1); a++)
             for (b = 0; b < 2; b++) {
               const PetscInt   oL = o0 + b * s1 + a * s2, oU = oL + sd;
               const PetscInt   ob = phi > 0.0 ? (i[d] > 0 ? oL - sd : -1) : (up[d] < C->nc[d] ? oU + sd : -1);
               const PetscReal *vL = &VL[dim * oL], *vU = &VL[dim * oU];
               PetscReal        vf[3], v2 = 0.0;
-              PetscInt         nn[3];
+              /* which of the column's two nodes this rank owns */
+              const PetscBool  ownT = OwnedIndex(ix, t1, i[t1] + b) && (dim < 3 || OwnedIndex(ix, t2, i[t2] + a));
               /* the upwind node's velocity, with a van Leer slope toward the mid-plane */
               for (q = 0; q < dim; q++) {
                 const PetscReal vu = phi > 0.0 ? vL[q] : vU[q], vd = phi > 0.0 ? vU[q] : vL[q];
@@ -348,10 +361,7 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
                 vf[q] = vu + g * VanLeer(vu - vb, vd - vu);
                 v2 += vf[q] * vf[q];
               }
-              nn[d]  = i[d];
-              nn[t1] = i[t1] + b;
-              nn[t2] = dim == 3 ? i[t2] + a : 0;
-              if (OwnedNode(ix, dim, nn)) {
+              if (ownT && OwnedIndex(ix, d, i[d])) {
                 for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
                 K[oL] -= phi * 0.5 * v2;
                 /* free faces of the domain: outflow takes the boundary node's share */
@@ -367,8 +377,7 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
                   S->lost_local.kinetic += 0.5 * out * k2;
                 }
               }
-              nn[d] += 1;
-              if (OwnedNode(ix, dim, nn)) {
+              if (ownT && OwnedIndex(ix, d, i[d] + 1)) {
                 for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
                 K[oU] += phi * 0.5 * v2;
                 if (bu) {
@@ -480,12 +489,13 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
   for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
-        PetscReal *u = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])], Mc = 0.0, dE = 0.0;
-        PetscInt   c;
+        PetscReal     *u  = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])], Mc = 0.0, dE = 0.0;
+        const PetscInt o0 = Node(ix, dim, i);
+        PetscInt       c;
         for (m = 0; m < nm; m++) Mc += u[m * ms + PS_CM];
         if (Mc <= 0.0) continue;
         for (c = 0; c < (1 << dim); c++) {
-          const PetscInt o = Lidx(ix, i[0] + PS_PAD + (c & 1), i[1] + PS_PAD + ((c >> 1) & 1), dim == 3 ? i[2] + PS_PAD + ((c >> 2) & 1) : 0);
+          const PetscInt o = o0 + (c & 1) + ((c >> 1) & 1) * ix->gm[0] + ((c >> 2) & 1) * ix->gm[0] * ix->gm[1];
           if (C->mcn[o] > 0.0) dE += Pn[dim * o] * Mc / ((1 << dim) * C->mcn[o]);
         }
         for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM] / Mc;
@@ -493,6 +503,14 @@ static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, Pet
       }
 
   PetscCall(PetscLogEventEnd(EV_KE, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d)
+{
+  PetscFunctionBeginUser;
+  if (S->dim == 2) PetscCall(SweepDim(S, ix, fr, dt, d, 2));
+  else PetscCall(SweepDim(S, ix, fr, dt, d, 3));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
