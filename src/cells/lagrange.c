@@ -151,7 +151,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscInt  nco = 1 << dim, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
-  PetscInt        i, j, k, m, a, d, e, n = 0;
+  PetscInt        i, j, k, m, a, d, e, o, n = 0;
   PSCorners       K;
 
   PetscFunctionBeginUser;
@@ -159,12 +159,17 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
   PetscCall(PSCellsEOSCache(S));
+  /* the cell materials' nodal velocity P^C_i / m^C_i at t^n, every local node,
+     into the remap's scratch C->Pn (free until the remap): the hourglass rates
+     here and the predictor's read it (each corner divided once per step) */
+  for (o = 0; o < C->nnl; o++)
+    for (d = 0; d < dim; d++) C->Pn[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
         const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        const PetscInt   o  = CellNode(ix, dim, i, j, k);
+        const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
         CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
@@ -190,10 +195,10 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         }
         for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
         /* the hourglass rates of the cell materials' nodal velocities; the corners' mass and force */
-        HourglassRates(&K, o, C->P, C->mcn, hg);
+        HourglassRates(&K, oc, C->Pn, NULL, hg);
         kap = HourglassKappa(&K, Mc, cmax);
         for (a = 0; a < nco; a++) {
-          PetscReal *gn = &g[dof * (o + K.off[a])];
+          PetscReal *gn = &g[dof * (oc + K.off[a])];
           gn[0] += Mc / nco;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
@@ -407,7 +412,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
         HourglassRates(&K, oc, C->vh, NULL, hgh);
-        HourglassRates(&K, oc, C->P, C->mcn, hg0);
+        HourglassRates(&K, oc, C->Pn, NULL, hg0); /* the cells' nodal velocity at t^n (PSCellsToGrid) */
         for (e = 0; e < 4; e++)
           for (d = 0; d < 3; d++) gh[3 * e + d] = hgh[e][d];
         kap = HourglassKappa(&K, Mc, cmax);

@@ -470,10 +470,11 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   }
   PetscCall(PSHaloBcast(C->sfp, C->P));
   /* kinetic energy carried minus that of the remapped momentum, d_i per
-     owned node, to the ghosts (in the first component of the scratch Pn);
-     then each owned cell takes from each corner the share M_c / (2^dim m_i)
-     of d_i, the share it has in the node's mass: the sum over cells is the
-     sum over nodes */
+     owned node, to the ghosts (in the first component of the scratch Pn, as
+     d_i / (2^dim m_i)); then each owned cell takes from each corner the share
+     M_c / (2^dim m_i) of d_i, the share it has in the node's mass (the sum
+     over cells is the sum over nodes), and each of its materials the share
+     M_k / M_c of that */
   Pn = C->Pn; /* after the swap: the scratch */
   PetscCall(PetscArrayzero(Pn, dim * C->nnl));
   for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
@@ -483,7 +484,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         PetscReal      p2 = 0.0;
         if (C->mcn[o] <= 0.0) continue;
         for (q = 0; q < dim; q++) p2 += C->P[dim * o + q] * C->P[dim * o + q];
-        Pn[dim * o] = K[o] - 0.5 * p2 / C->mcn[o];
+        Pn[dim * o] = (K[o] - 0.5 * p2 / C->mcn[o]) / ((1 << dim) * C->mcn[o]);
       }
   PetscCall(PSHaloBcast(C->sfp, Pn));
   for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
@@ -496,10 +497,10 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         if (Mc <= 0.0) continue;
         for (c = 0; c < (1 << dim); c++) {
           const PetscInt o = o0 + (c & 1) + ((c >> 1) & 1) * ix->gm[0] + ((c >> 2) & 1) * ix->gm[0] * ix->gm[1];
-          if (C->mcn[o] > 0.0) dE += Pn[dim * o] * Mc / ((1 << dim) * C->mcn[o]);
+          if (C->mcn[o] > 0.0) dE += Pn[dim * o]; /* per unit of the cell's mass */
         }
-        for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM] / Mc;
-        C->remap_heat += dE;
+        for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM];
+        C->remap_heat += dE * Mc;
       }
 
   PetscCall(PetscLogEventEnd(EV_KE, 0, 0, 0, 0));
