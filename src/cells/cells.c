@@ -92,6 +92,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PetscCalloc1(nn * S->dim, &C->P));
   PetscCall(PetscCalloc1(nn * S->dim, &C->Pn));
   PetscCall(PetscCalloc2(nn, &C->mcn, nn * S->dim, &C->vh));
+  PetscCall(PetscCalloc1(C->ncl, &C->Mcell));
   {
     PetscInt nown = 1;
     for (d = 0; d < 3; d++) nown *= C->ce[d] - C->cs[d];
@@ -110,6 +111,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->P));
   PetscCall(PetscFree((*C)->Pn));
   PetscCall(PetscFree2((*C)->mcn, (*C)->vh));
+  PetscCall(PetscFree((*C)->Mcell));
   PetscCall(PetscFree3((*C)->hs, (*C)->vo, (*C)->df));
   PetscCall(PetscSFDestroy(&(*C)->sfu));
   PetscCall(PetscSFDestroy(&(*C)->sfd));
@@ -134,7 +136,9 @@ PetscErrorCode PSCellsExchange(PSCells *C)
 }
 
 /* m^C_i = sum_c M_c / 2^dim over the cells around each local node (ghost
-   nodes included where their cells are in the ghosted box) */
+   nodes included where their cells are in the ghosted box); each cell's M_c
+   kept in C->Mcell for the remap (every change of the cells' masses ends
+   here: the remap's sweeps, the fit, insertion and restart) */
 PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
 {
   PSCells        *C   = S->cells;
@@ -151,6 +155,7 @@ PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
         const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         PetscReal        Mc = 0.0;
         for (m = 0; m < C->nmat; m++) Mc += u[m * C->ms + PS_CM];
+        C->Mcell[PSCellIdx(C, i, j, k)] = Mc;
         if (Mc == 0.0) continue;
         /* corners: DMDA nodes i + PS_PAD + a, ... (those in the local node array;
            all of them but at the box's edge) */

@@ -64,6 +64,7 @@ typedef struct PSCells_ {
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
   PetscReal *Pn;                  /* scratch of the same size */
   PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
+  PetscReal *Mcell;               /* per ghosted cell: its cell materials' mass M_c (kg), as PSCellsNodalMass last summed it */
   PetscReal *vh;                  /* the nodal velocity that moves the cells' faces this step, dim per node */
   PetscReal *vo;                  /* the nodal velocity at t^n (PSCellsPredict), dim per node */
   PetscReal *df;                  /* the corrector's change of the cells' nodal force, dim per node */

@@ -148,7 +148,7 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
 static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  nco = 1 << dim, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
+  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
   PetscInt        i, j, k, m, a, d, e, o, n = 0;
@@ -203,7 +203,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
             for (e = 0; e < dim; e++) fd -= sig[d][e] * K.gN[a][e];
-            for (e = 0; e < K.nh; e++) fd -= kap * K.G[a][e] * hg[e][d];
+            for (e = 0; e < nh; e++) fd -= kap * K.G[a][e] * hg[e][d];
             gn[fo + d] += fs * fd;
           }
         }
@@ -333,7 +333,7 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
 static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dof = PSGridDof(S), nco = 1 << dim, ns = C->ns, hsd = PSCellsHalfSize(C);
+  const PetscInt  dof = PSGridDof(S), nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   PetscReal      *g = S->g, hm = 0.0;
   PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0;
@@ -422,7 +422,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
             for (e = 0; e < dim; e++) fd -= dsig[d][e] * K.gN[a][e];
-            for (e = 0; e < K.nh; e++) fd -= kap * K.G[a][e] * (hgh[e][d] - hg0[e][d]);
+            for (e = 0; e < nh; e++) fd -= kap * K.G[a][e] * (hgh[e][d] - hg0[e][d]);
             dfa[d] += fd;
           }
         }
@@ -464,7 +464,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dof = PSGridDof(S);
+  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1;
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
   PetscInt        i, j, k, m, d, o, n = 0;
@@ -521,7 +521,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
           PetscReal        hg[4][3];
           PetscInt         e;
           HourglassRates(&K, oc, C->vh, NULL, hg);
-          for (e = 0; e < K.nh; e++)
+          for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) hgw += kap * gh[3 * e + d] * hg[e][d] * dt;
         }
         /* each material: energy, pressure, deviator */

@@ -339,10 +339,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
           phi = 0.5 * (Flo + Fhi) / ncol;
           /* the share of the upwind half cell that crosses the mid-plane: the
              Courant number of the momentum's slope correction */
-          {
-            const PetscReal *u = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])];
-            for (m = 0; m < nm; m++) Mc += u[m * ms + PS_CM];
-          }
+          Mc  = C->Mcell[PSCellIdx(C, i[0], i[1], i[2])]; /* before the sweep (PSCellsNodalMass) */
           nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0;
           g  = 0.5 * (1.0 - nu);
           o0 = Node(ix, dim, i);
@@ -490,10 +487,9 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
-        PetscReal     *u  = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])], Mc = 0.0, dE = 0.0;
-        const PetscInt o0 = Node(ix, dim, i);
+        const PetscInt ci = PSCellIdx(C, i[0], i[1], i[2]), o0 = Node(ix, dim, i);
+        PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
         PetscInt       c;
-        for (m = 0; m < nm; m++) Mc += u[m * ms + PS_CM];
         if (Mc <= 0.0) continue;
         for (c = 0; c < (1 << dim); c++) {
           const PetscInt o = o0 + (c & 1) + ((c >> 1) & 1) * ix->gm[0] + ((c >> 2) & 1) * ix->gm[0] * ix->gm[1];
