@@ -38,7 +38,7 @@
 #include "cells.h"
 #include "plic.h"
 
-static PetscLogEvent EV_Remap = 0, EV_Faces, EV_Nodes, EV_Update, EV_Halo, EV_KE;
+static PetscLogEvent EV_Remap = 0, EV_Prep, EV_Flux, EV_Halo, EV_KE;
 
 #define PS_DISCARD 1e-6 /* volume fraction below which a cell material is discarded (booked) */
 #define PS_RHO_MIN 1e-6 /* density, relative to the material's reference, below which it is discarded (booked) */
@@ -248,6 +248,127 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   }
 }
 
+/* a slice's index range in x and y: the box's [lo, hi) across d below it in
+   the loop nest, j's own index elsewhere (j[d] is the slice) */
+static inline void SliceRange(PetscInt d, const PetscInt lo[3], const PetscInt hi[3], const PetscInt j[3], PetscInt jl[2], PetscInt jh[2])
+{
+  PetscInt e;
+  for (e = 0; e < 2; e++) {
+    jl[e] = e < d ? lo[e] : j[e];
+    jh[e] = e < d ? hi[e] : j[e] + 1;
+  }
+}
+
+/* the momentum's dual flux of cell j (lower corner j): its mid-plane carries
+   (F_lo + F_hi)/2 (the total mass fluxes of its faces along d) from its
+   lower to its upper corner nodes, shared among the 2^(dim-1) node columns,
+   at the upwind node's velocity with a van Leer slope; free faces of the
+   domain let the boundary node's share out.  VL, K: the nodes' velocity and
+   kinetic energy before the sweep; Pn, K take the owned nodes' change */
+static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal Flo, PetscReal Fhi, const PetscReal *VL, PetscReal *Pn, PetscReal *K)
+{
+  const PSCells  *C = S->cells;
+  const PetscInt  d = sw->d, t1 = sw->t1, t2 = sw->t2, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2;
+  const PetscBool bl = i[d] == 0 && Flo < 0.0;             /* outflow through a free face below */
+  const PetscBool bu = i[d] + 1 == C->nc[d] && Fhi > 0.0;  /* or above */
+  PetscReal       phi, Mc, nu, g;
+  PetscInt        a, b, q, o0;
+
+  if (Flo == 0.0 && Fhi == 0.0) return; /* nothing crosses this cell */
+  phi = 0.5 * (Flo + Fhi) / ncol;
+  /* the share of the upwind half cell that crosses the mid-plane: the
+     Courant number of the momentum's slope correction */
+  Mc = C->Mcell[PSCellIdx(C, i[0], i[1], i[2])]; /* before the sweep (PSCellsNodalMass) */
+  nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0;
+  g  = 0.5 * (1.0 - nu);
+  o0 = Node(ix, dim, i);
+  for (a = 0; a < (dim == 3 ? 2 : 1); a++)
+    for (b = 0; b < 2; b++) {
+      const PetscInt   oL = o0 + b * s1 + a * s2, oU = oL + sd;
+      const PetscInt   ob = phi > 0.0 ? (i[d] > 0 ? oL - sd : -1) : (i[d] + 1 < C->nc[d] ? oU + sd : -1);
+      const PetscReal *vL = &VL[dim * oL], *vU = &VL[dim * oU];
+      PetscReal        vf[3], v2 = 0.0;
+      /* which of the column's two nodes this rank owns */
+      const PetscBool  ownT = OwnedIndex(ix, t1, i[t1] + b) && (dim < 3 || OwnedIndex(ix, t2, i[t2] + a));
+      /* the upwind node's velocity, with a van Leer slope toward the mid-plane */
+      for (q = 0; q < dim; q++) {
+        const PetscReal vu = phi > 0.0 ? vL[q] : vU[q], vd = phi > 0.0 ? vU[q] : vL[q];
+        const PetscReal vb = (ob >= 0 && C->mcn[ob] > 0.0) ? VL[dim * ob + q] : vu;
+        vf[q] = vu + g * VanLeer(vu - vb, vd - vu);
+        v2 += vf[q] * vf[q];
+      }
+      if (ownT && OwnedIndex(ix, d, i[d])) {
+        for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
+        K[oL] -= phi * 0.5 * v2;
+        /* free faces of the domain: outflow takes the boundary node's share */
+        if (bl) {
+          const PetscReal out = -Flo / ncol;
+          PetscReal       k2  = 0.0;
+          for (q = 0; q < dim; q++) {
+            Pn[dim * oL + q] -= out * vL[q];
+            S->lost_local.p[q] += out * vL[q];
+            k2 += vL[q] * vL[q];
+          }
+          K[oL] -= 0.5 * out * k2;
+          S->lost_local.kinetic += 0.5 * out * k2;
+        }
+      }
+      if (ownT && OwnedIndex(ix, d, i[d] + 1)) {
+        for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
+        K[oU] += phi * 0.5 * v2;
+        if (bu) {
+          const PetscReal out = Fhi / ncol;
+          PetscReal       k2  = 0.0;
+          for (q = 0; q < dim; q++) {
+            Pn[dim * oU + q] -= out * vU[q];
+            S->lost_local.p[q] += out * vU[q];
+            k2 += vU[q] * vU[q];
+          }
+          K[oU] -= 0.5 * out * k2;
+          S->lost_local.kinetic += 0.5 * out * k2;
+        }
+      }
+    }
+}
+
+/* an owned cell's update from its faces' fluxes fl (lower) and fh (upper):
+   in through the lower face, out through the upper */
+static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], const PetscReal *fl, const PetscReal *fh)
+{
+  PSCells        *C = S->cells;
+  const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
+  PetscReal      *u = &C->u[C->dof * PSCellIdx(C, i[0], i[1], i[2])];
+  PetscInt        m, q;
+
+  for (q = 0; q < nm * ms; q++) u[q] += fl[q] - fh[q];
+  u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
+  for (m = 0; m < nm; m++) {
+    /* traces below PS_DISCARD of the cell (a round-off residue, or what a
+       face flux leaves behind against a marker body) are discarded, as CTH
+       does, their mass and internal energy booked as lost; so is a volume
+       with next to no mass (below PS_RHO_MIN of the reference density: a face
+       flux's volume outran its mass), which the next compression would heat
+       without bound, q dV / M_k */
+    if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= PS_DISCARD * C->Vc || u[m * ms + PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * u[m * ms + PS_CV]) {
+      S->lost_local.mass += u[m * ms + PS_CM];
+      S->lost_local.internal += u[m * ms + PS_CE];
+      C->discarded += u[m * ms + PS_CM];
+      for (q = 0; q < ms; q++) u[m * ms + q] = 0.0;
+    }
+  }
+  /* outflow through free faces of the domain */
+  if (i[d] == 0 && fl[fs - 1] < 0.0)
+    for (m = 0; m < nm; m++) {
+      S->lost_local.mass -= fl[m * ms + PS_CM];
+      S->lost_local.internal -= fl[m * ms + PS_CE];
+    }
+  if (i[d] + 1 == C->nc[d] && fh[fs - 1] > 0.0)
+    for (m = 0; m < nm; m++) {
+      S->lost_local.mass += fh[m * ms + PS_CM];
+      S->lost_local.internal += fh[m * ms + PS_CE];
+    }
+}
+
 /* one sweep along d; dim a constant where it is called (Sweep picks 2D or
    3D), so the loops over a face's corners and a node's components unroll */
 static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, const PetscInt dim)
@@ -256,13 +377,11 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   const PetscInt  ncol = dim == 3 ? 4 : 2;
   PetscReal      *F, *K, *VB, *VL, *P = C->P, *Pn = C->Pn;
-  PetscInt        lo[3], hi[3], i[3], e, m, q, nf, a, b, t1, t2;
+  PetscInt        lo[3], hi[3], i[3], e, m, q, ns;
   PSSweepDirs     sw;
 
   PetscFunctionBeginUser;
   SweepDirs(C, ix, dim, d, &sw);
-  t1 = sw.t1;
-  t2 = sw.t2;
   /* faces along d of the cells around the owned nodes, [cs - 1, ce) in every
      direction (clipped to the domain), one more along d */
   for (e = 0; e < 3; e++) {
@@ -270,22 +389,14 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     hi[e] = e < dim ? C->ce[e] : 1;
   }
   hi[d] += 1;
-  nf = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-  PetscCall(PetscLogEventBegin(EV_Faces, 0, 0, 0, 0));
-  PetscCall(ScratchSize(C, nf * fs));
+  PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
+  for (e = 0, ns = 1; e < d; e++) ns *= hi[e] - lo[e]; /* faces in a slice (below) */
+  PetscCall(ScratchSize(C, 3 * ns * fs));
   F  = C->sF;
   K  = C->sK;
   VB = C->sVB;
   VL = C->sVL;
-  PetscCall(PetscArrayzero(F, nf * fs));
   PetscCall(FractionsBuild(C, fr));
-#define FIDX(c0, c1, c2) ((((c2) - lo[2]) * (hi[1] - lo[1]) + ((c1) - lo[1])) * (hi[0] - lo[0]) + ((c0) - lo[0]))
-  for (i[2] = lo[2]; i[2] < hi[2]; i[2]++)
-    for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
-      for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) FaceFlux(S, ix, fr, dt, &sw, dim, i, &F[fs * FIDX(i[0], i[1], i[2])]);
-  PetscCall(PetscLogEventEnd(EV_Faces, 0, 0, 0, 0));
-  PetscCall(PetscLogEventBegin(EV_Nodes, 0, 0, 0, 0));
-
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
      upper corner nodes; free faces let the nodes' share out.  Velocities
      (VL) and kinetic energies (K) before the sweep, over every local node. */
@@ -321,121 +432,57 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
           }
         }
       }
+  PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
+  /* faces, the momentum's dual fluxes and the cells' update, slice by slice
+     along d (a slice: the faces or cells with one index i_d), within each
+     line or plane across d in the order of the cell array (z, y, x): the
+     faces of slice s read the cells of slices s - 2 .. s + 1 (donor and its
+     neighbours along d), so the cells of slice c take their update once the
+     faces of slice c + 2 are done, and three slices of faces in a ring are
+     all the sweep keeps.  Each cell's arithmetic, and the order of every sum
+     (the nodes' momentum, the books), is that of separate passes over all
+     faces, then all cells */
+  PetscCall(PetscLogEventBegin(EV_Flux, 0, 0, 0, 0));
   {
-    const PetscInt sd = sw.sd, s1 = sw.s1, s2 = sw.s2;
-    for (i[2] = lo[2]; i[2] < (dim == 3 ? hi[2] : 1); i[2]++)
-      for (i[1] = lo[1]; i[1] < hi[1]; i[1]++)
-        for (i[0] = lo[0]; i[0] < hi[0]; i[0]++) {
-          PetscInt  up[3] = {i[0], i[1], i[2]}, o0;
-          PetscReal Flo, Fhi, phi, Mc = 0.0, nu, g;
-          PetscBool bl, bu;
-          if (i[d] >= hi[d] - 1) continue; /* the extra face index along d */
-          up[d] += 1;
-          Flo = F[fs * FIDX(i[0], i[1], i[2]) + fs - 1];
-          Fhi = F[fs * FIDX(up[0], up[1], up[2]) + fs - 1];
-          bl  = i[d] == 0 && Flo < 0.0;                 /* outflow through a free face below */
-          bu  = up[d] == C->nc[d] && Fhi > 0.0;         /* or above */
-          if (Flo == 0.0 && Fhi == 0.0) continue;       /* nothing crosses this cell */
-          phi = 0.5 * (Flo + Fhi) / ncol;
-          /* the share of the upwind half cell that crosses the mid-plane: the
-             Courant number of the momentum's slope correction */
-          Mc  = C->Mcell[PSCellIdx(C, i[0], i[1], i[2])]; /* before the sweep (PSCellsNodalMass) */
-          nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0;
-          g  = 0.5 * (1.0 - nu);
-          o0 = Node(ix, dim, i);
-          for (a = 0; a < (dim == 3 ? 2 : 1); a++)
-            for (b = 0; b < 2; b++) {
-              const PetscInt   oL = o0 + b * s1 + a * s2, oU = oL + sd;
-              const PetscInt   ob = phi > 0.0 ? (i[d] > 0 ? oL - sd : -1) : (up[d] < C->nc[d] ? oU + sd : -1);
-              const PetscReal *vL = &VL[dim * oL], *vU = &VL[dim * oU];
-              PetscReal        vf[3], v2 = 0.0;
-              /* which of the column's two nodes this rank owns */
-              const PetscBool  ownT = OwnedIndex(ix, t1, i[t1] + b) && (dim < 3 || OwnedIndex(ix, t2, i[t2] + a));
-              /* the upwind node's velocity, with a van Leer slope toward the mid-plane */
-              for (q = 0; q < dim; q++) {
-                const PetscReal vu = phi > 0.0 ? vL[q] : vU[q], vd = phi > 0.0 ? vU[q] : vL[q];
-                const PetscReal vb = (ob >= 0 && C->mcn[ob] > 0.0) ? VL[dim * ob + q] : vu;
-                vf[q] = vu + g * VanLeer(vu - vb, vd - vu);
-                v2 += vf[q] * vf[q];
-              }
-              if (ownT && OwnedIndex(ix, d, i[d])) {
-                for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
-                K[oL] -= phi * 0.5 * v2;
-                /* free faces of the domain: outflow takes the boundary node's share */
-                if (bl) {
-                  const PetscReal out = -Flo / ncol;
-                  PetscReal       k2  = 0.0;
-                  for (q = 0; q < dim; q++) {
-                    Pn[dim * oL + q] -= out * vL[q];
-                    S->lost_local.p[q] += out * vL[q];
-                    k2 += vL[q] * vL[q];
-                  }
-                  K[oL] -= 0.5 * out * k2;
-                  S->lost_local.kinetic += 0.5 * out * k2;
-                }
-              }
-              if (ownT && OwnedIndex(ix, d, i[d] + 1)) {
-                for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
-                K[oU] += phi * 0.5 * v2;
-                if (bu) {
-                  const PetscReal out = Fhi / ncol;
-                  PetscReal       k2  = 0.0;
-                  for (q = 0; q < dim; q++) {
-                    Pn[dim * oU + q] -= out * vU[q];
-                    S->lost_local.p[q] += out * vU[q];
-                    k2 += vU[q] * vU[q];
-                  }
-                  K[oU] -= 0.5 * out * k2;
-                  S->lost_local.kinetic += 0.5 * out * k2;
-                }
-              }
+    PetscInt lead, ol[3], oh[3], c;
+    /* the indices across d that are outer to it in the loop nest: one pass of
+       slices per line (d = x) or plane (d = y), one in all (d = z) */
+    for (e = 0; e < 3; e++) {
+      ol[e] = e > d ? lo[e] : 0;
+      oh[e] = e > d ? hi[e] : 1;
+    }
+    for (i[2] = ol[2]; i[2] < oh[2]; i[2]++)
+      for (i[1] = ol[1]; i[1] < oh[1]; i[1]++)
+        for (i[0] = ol[0]; i[0] < oh[0]; i[0]++) {
+          for (lead = lo[d]; lead < hi[d] + 2; lead++) {
+            /* the faces of slice lead */
+            if (lead < hi[d]) {
+              PetscReal *Fs = &F[(lead % 3) * ns * fs];
+              PetscInt   j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
+              PetscCall(PetscArrayzero(Fs, ns * fs));
+              j[d] = lead;
+              SliceRange(d, lo, hi, j, jl, jh);
+              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++)
+                for (j[0] = jl[0]; j[0] < jh[0]; j[0]++, n++) FaceFlux(S, ix, fr, dt, &sw, dim, j, &Fs[fs * n]);
             }
+            /* the cells of slice c = lead - 2, between faces c and c + 1 */
+            c = lead - 2;
+            if (c >= lo[d] && c < hi[d] - 1) {
+              const PetscReal *Fl = &F[(c % 3) * ns * fs], *Fh = &F[((c + 1) % 3) * ns * fs];
+              PetscInt         j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
+              j[d] = c;
+              SliceRange(d, lo, hi, j, jl, jh);
+              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++)
+                for (j[0] = jl[0]; j[0] < jh[0]; j[0]++, n++) {
+                  DualFlux(S, ix, &sw, dim, j, Fl[fs * n + fs - 1], Fh[fs * n + fs - 1], VL, Pn, K);
+                  if (j[0] >= C->cs[0] && j[1] >= C->cs[1] && j[2] >= C->cs[2]) CellUpdate(S, &sw, j, &Fl[fs * n], &Fh[fs * n]);
+                }
+            }
+          }
         }
   }
-
-  PetscCall(PetscLogEventEnd(EV_Nodes, 0, 0, 0, 0));
-  PetscCall(PetscLogEventBegin(EV_Update, 0, 0, 0, 0));
-  /* the owned cells: in through the lower face, out through the upper */
-  for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
-    for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
-      for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
-        PetscReal       *u = &C->u[dof * PSCellIdx(C, i[0], i[1], i[2])];
-        PetscInt         up[3] = {i[0], i[1], i[2]};
-        const PetscReal *fl, *fh;
-        up[d] += 1;
-        fl = &F[fs * FIDX(i[0], i[1], i[2])];
-        fh = &F[fs * FIDX(up[0], up[1], up[2])];
-        for (q = 0; q < nm * ms; q++) u[q] += fl[q] - fh[q];
-        u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
-        for (m = 0; m < nm; m++) {
-          /* traces below PS_DISCARD of the cell (a round-off residue, or what a
-             face flux leaves behind against a marker body) are discarded, as
-             CTH does, their mass and internal energy booked as lost; so is a
-             volume with next to no mass (below PS_RHO_MIN of the reference
-             density: a face flux's volume outran its mass), which the next
-             compression would heat without bound, q dV / M_k */
-          if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= PS_DISCARD * C->Vc || u[m * ms + PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * u[m * ms + PS_CV]) {
-            S->lost_local.mass += u[m * ms + PS_CM];
-            S->lost_local.internal += u[m * ms + PS_CE];
-            C->discarded += u[m * ms + PS_CM];
-            for (q = 0; q < ms; q++) u[m * ms + q] = 0.0;
-          }
-        }
-        /* outflow through free faces of the domain */
-        if (i[d] == 0 && fl[fs - 1] < 0.0)
-          for (m = 0; m < nm; m++) {
-            S->lost_local.mass -= fl[m * ms + PS_CM];
-            S->lost_local.internal -= fl[m * ms + PS_CE];
-          }
-        if (up[d] == C->nc[d] && fh[fs - 1] > 0.0)
-          for (m = 0; m < nm; m++) {
-            S->lost_local.mass += fh[m * ms + PS_CM];
-            S->lost_local.internal += fh[m * ms + PS_CE];
-          }
-      }
-#undef FIDX
+  PetscCall(PetscLogEventEnd(EV_Flux, 0, 0, 0, 0));
   /* the cells' new state to the ghosts; the new nodal masses */
-  PetscCall(PetscLogEventEnd(EV_Update, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
   PetscCall(PSCellsExchange(C));
   PetscCall(PSCellsNodalMass(S, ix));
@@ -522,9 +569,8 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
   fr.A = C->sA; /* kept between steps */
   if (!EV_Remap) {
     PetscCall(PetscLogEventRegister("PSCellsRemap", 0, &EV_Remap));
-    PetscCall(PetscLogEventRegister("PSCellsFaces", 0, &EV_Faces));
-    PetscCall(PetscLogEventRegister("PSCellsNodes", 0, &EV_Nodes));
-    PetscCall(PetscLogEventRegister("PSCellsUpdate", 0, &EV_Update));
+    PetscCall(PetscLogEventRegister("PSCellsPrep", 0, &EV_Prep));
+    PetscCall(PetscLogEventRegister("PSCellsFlux", 0, &EV_Flux));
     PetscCall(PetscLogEventRegister("PSCellsHalo", 0, &EV_Halo));
     PetscCall(PetscLogEventRegister("PSCellsKE", 0, &EV_KE));
   }
