@@ -196,10 +196,10 @@ PetscErrorCode PSCellsPressure(const PSSolver *S, PetscInt k, const PetscReal *b
   }
   J = M->rho0 * blk[PS_CV] / blk[PS_CM];
   e = blk[PS_CE] / blk[PS_CM];
-  PetscCall(M->eos_fn(M, J, 0.0, 0.0, &A, &B, &c2));
+  PetscCall(PSCellsEOS(M, J, 0.0, 0.0, &A, &B, &c2));
   *p = A + B * e;
   if (M->spall < 0.0 && *p < M->spall) *p = 0.0;
-  PetscCall(M->eos_fn(M, J, *p, 0.0, &A, &B, &c2)); /* c^2 of the ideal gas needs p */
+  PetscCall(PSCellsEOS(M, J, *p, 0.0, &A, &B, &c2)); /* c^2 of the ideal gas needs p */
   *c = PetscSqrtReal(PetscMax(c2, 0.0) + 4.0 * M->G * J / (3.0 * M->rho0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -274,7 +274,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           if (chi[m] <= 0.0) continue;
           dVm = -over * chi[m] / sumchi;
           V1  = blk[PS_CV] + dVm;
-          PetscCall(M->eos_fn(M, M->rho0 * V1 / blk[PS_CM], pk[m], dVm / blk[PS_CV], &A, &B, &c2));
+          PetscCall(PSCellsEOS(M, M->rho0 * V1 / blk[PS_CM], pk[m], dVm / blk[PS_CV], &A, &B, &c2));
           PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, dVm / blk[PS_CM], pk[m], A, B, 0.0, &e1, &p1);
           C->coupling_work += blk[PS_CM] * e1 - blk[PS_CE];
           blk[PS_CE] = blk[PS_CM] * e1;
