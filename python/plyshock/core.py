@@ -216,15 +216,15 @@ def resources(scene, cs, markers=None, hosts=1, ranks=1):
                               (b.points_per_cell or 2) ** dim if b.insertion == "lattice" else (b.subdivision or 1) ** dim)
         markers = round(sum(min(cs.body_volume(i), vgrid) / vcell * per_cell(b) for i, b in enumerate(scene.bodies)))
     per_marker = _marker_bytes(dim, cs.marker_bytes(None))
-    # Eulerian cells: per cell and cell material V, M, E (and the strength state), 4 more per cell, twice (the
-    # state and a sweep's scratch); per node the cells' momentum, its scratch, velocity and mass
+    # Eulerian cells: per cell and cell material V, M, E (and the strength state), 4 more per cell; per node
+    # the cells' momentum, its scratch, velocity and mass
     ncm = len(scene.cell_materials)
     strength = any((scene.materials[i].strength or {}).get("type", "none") != "none" for i in scene.cell_materials)
     cell_dof = ncm * (3 + (PSC(dim) + 2 if strength else 0)) + 4 if ncm else 0
     # the state and its scratch per cell, the predictor's half-step values (cells.h PSCellsHalfSize), its mass;
     # per node P, Pn, vh, v^n, the force change (dim each) and m^C
     cell_half = ncm * (1 + PSC(dim)) + 13
-    cell_bytes = 8 * (cells * (2 * cell_dof + cell_half + 1) + nodes * (5 * dim + 1)) if ncm else 0
+    cell_bytes = 8 * (cells * (cell_dof + cell_half + 1) + nodes * (5 * dim + 1)) if ncm else 0
     # velocity fields of bodies in contact (and plies with cohesive interfaces): per node and field
     # the P2G/grid block (4 + 4 dim reals, contact.h), the re-projection (dim) and the mass pass (1),
     # plus a flag

@@ -69,7 +69,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
     C->ncl *= C->gm[d];
     PetscCall(CellRanges(S, d, C->nc[d], &lc[d]));
   }
-  PetscCall(PetscCalloc2(C->ncl * C->dof, &C->u, C->ncl * C->dof, &C->un));
+  PetscCall(PetscCalloc1(C->ncl * C->dof, &C->u));
   PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, C->dof, &C->sfu));
   PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, 2, &C->sfd));
   PetscCall(PetscCalloc1(2 * C->ncl, &C->dep));
@@ -107,7 +107,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
 {
   PetscFunctionBeginUser;
   if (!*C) PetscFunctionReturn(PETSC_SUCCESS);
-  PetscCall(PetscFree2((*C)->u, (*C)->un));
+  PetscCall(PetscFree((*C)->u));
   PetscCall(PetscFree((*C)->P));
   PetscCall(PetscFree((*C)->Pn));
   PetscCall(PetscFree2((*C)->mcn, (*C)->vh));

@@ -53,7 +53,6 @@ typedef struct PSCells_ {
   PetscInt  gs[3], gm[3];         /* ghosted cell box: corner and size */
   PetscInt  ncl;                  /* cells in the ghosted box */
   PetscReal *u;                   /* the ghosted cell array, ncl x dof */
-  PetscReal *un;                  /* scratch of the same size (a sweep's new state) */
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance */
   PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
