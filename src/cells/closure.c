@@ -238,15 +238,17 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         PetscReal  Vm = 0.0, room = C->Vc * PetscMax(1.0 - u[C->nmat * C->ms + PS_CX_AM], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
+        for (m = 0; m < C->nmat; m++)
+          if (u[m * C->ms + PS_CM] > 0.0) Vm += u[m * C->ms + PS_CV];
+        over = Vm - room;
+        if (over <= 1e-12 * C->Vc) continue; /* room enough (nearly every cell): no EOS needed */
         for (m = 0; m < C->nmat; m++) {
           chi[m] = 0.0;
           if (u[m * C->ms + PS_CM] <= 0.0) continue;
-          Vm += u[m * C->ms + PS_CV];
           PetscCall(Compliance(S, m, &u[m * C->ms], &chi[m], &pk[m]));
           sumchi += chi[m];
         }
-        over = Vm - room;
-        if (over <= 1e-12 * C->Vc || sumchi <= 0.0) continue;
+        if (sumchi <= 0.0) continue;
         /* where the markers leave no room for less than PS_CROWD of a cell,
            that little is discarded (booked as lost) rather than crushed: a
            sliver squeezed against a marker body takes pressures that are no

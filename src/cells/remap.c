@@ -492,7 +492,10 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      range it came from (a node the sweep nearly empties divides a remainder
      of round-off size by a mass of round-off size; and without mass no
      momentum), what is cut booked as lost; then the boundary conditions (a
-     wall takes the momentum into it) */
+     wall takes the momentum into it).  With it, the kinetic energy carried
+     minus that of the remapped momentum, d_i per owned node, into the first
+     component of the scratch VL (free since the fluxes), as d_i / (2^dim m_i),
+     for the cells below */
   for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
     for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
       for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
@@ -506,6 +509,12 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
           Pn[dim * o + q] = pq;
         }
         PSNodeBC(S, ip, &Pn[dim * o]);
+        VL[dim * o] = 0.0;
+        if (C->mcn[o] > 0.0) {
+          PetscReal p2 = 0.0;
+          for (q = 0; q < dim; q++) p2 += Pn[dim * o + q] * Pn[dim * o + q];
+          VL[dim * o] = (K[o] - 0.5 * p2 / C->mcn[o]) / ((1 << dim) * C->mcn[o]);
+        }
       }
   {
     PetscReal *t = C->P;
@@ -513,24 +522,11 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     C->Pn = t;
   }
   PetscCall(PSHaloBcast(C->sfp, C->P));
-  /* kinetic energy carried minus that of the remapped momentum, d_i per
-     owned node, to the ghosts (in the first component of the scratch Pn, as
-     d_i / (2^dim m_i)); then each owned cell takes from each corner the share
+  /* d_i to the ghosts; then each owned cell takes from each corner the share
      M_c / (2^dim m_i) of d_i, the share it has in the node's mass (the sum
      over cells is the sum over nodes), and each of its materials the share
      M_k / M_c of that */
-  Pn = C->Pn; /* after the swap: the scratch */
-  PetscCall(PetscArrayzero(Pn, dim * C->nnl));
-  for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
-    for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
-      for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
-        const PetscInt o = Lidx(ix, i[0], i[1], i[2]);
-        PetscReal      p2 = 0.0;
-        if (C->mcn[o] <= 0.0) continue;
-        for (q = 0; q < dim; q++) p2 += C->P[dim * o + q] * C->P[dim * o + q];
-        Pn[dim * o] = (K[o] - 0.5 * p2 / C->mcn[o]) / ((1 << dim) * C->mcn[o]);
-      }
-  PetscCall(PSHaloBcast(C->sfp, Pn));
+  PetscCall(PSHaloBcast(C->sfp, VL));
   for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
@@ -540,7 +536,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         if (Mc <= 0.0) continue;
         for (c = 0; c < (1 << dim); c++) {
           const PetscInt o = o0 + (c & 1) + ((c >> 1) & 1) * ix->gm[0] + ((c >> 2) & 1) * ix->gm[0] * ix->gm[1];
-          if (C->mcn[o] > 0.0) dE += Pn[dim * o]; /* per unit of the cell's mass */
+          if (C->mcn[o] > 0.0) dE += VL[dim * o]; /* per unit of the cell's mass */
         }
         for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM];
         C->remap_heat += dE * Mc;
