@@ -53,7 +53,7 @@ static PetscLogEvent EV_C2G = 0, EV_Lag = 0, EV_Pred = 0;
    Flanagan & Belytschko 1981).  Built once per phase (CornersBuild), so the
    cells' loops do no index arithmetic, division or branching per corner. */
 typedef struct {
-  PetscInt  dim, nco, nh; /* corners, hourglass modes */
+  PetscInt  dim, nco;     /* corners */
   PetscInt  off[8];       /* node offsets from corner 0 */
   PetscReal gN[8][3];     /* grad N_a at the centre (1/m) */
   PetscReal G[8][4];      /* hourglass patterns */
@@ -67,7 +67,6 @@ static void CornersBuild(const PSSolver *S, const PSIndex *ix, PSCorners *K)
 
   K->dim = dim;
   K->nco = 1 << dim;
-  K->nh  = dim == 3 ? 4 : 1;
   for (a = 0; a < K->nco; a++) {
     PetscReal s[3];
     PetscInt  o[3];
@@ -99,10 +98,9 @@ static inline PetscReal HourglassKappa(const PSCorners *K, PetscReal Mc, PetscRe
 }
 
 /* the hourglass rates g_m = sum_a G_m(a) v_a of the cell with lower corner
-   node o, from nodal velocities v (dim per node), or nodal momenta over the
-   masses mass when mass is given; dim a constant where it is called, so the
-   loops unroll (HourglassRates picks 2D or 3D) */
-static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, PetscInt o, const PetscReal *v, const PetscReal *mass, PetscReal hg[4][3])
+   node o, from nodal velocities v (dim per node); dim a constant where it is
+   called, so the loops unroll (HourglassRates picks 2D or 3D) */
+static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, PetscInt o, const PetscReal *v, PetscReal hg[4][3])
 {
   const PetscInt nco = 1 << dim, nh = dim == 3 ? 4 : 1;
   PetscInt       a, d, e;
@@ -112,16 +110,15 @@ static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, Pet
   for (a = 0; a < nco; a++) {
     const PetscInt oa = o + K->off[a];
     for (d = 0; d < dim; d++) {
-      const PetscReal vd = mass ? (mass[oa] > 0.0 ? v[dim * oa + d] / mass[oa] : 0.0) : v[dim * oa + d];
-      for (e = 0; e < nh; e++) hg[e][d] += K->G[a][e] * vd;
+      for (e = 0; e < nh; e++) hg[e][d] += K->G[a][e] * v[dim * oa + d];
     }
   }
 }
 
-static inline void HourglassRates(const PSCorners *K, PetscInt o, const PetscReal *v, const PetscReal *mass, PetscReal hg[4][3])
+static inline void HourglassRates(const PSCorners *K, PetscInt o, const PetscReal *v, PetscReal hg[4][3])
 {
-  if (K->dim == 2) HourglassRatesDim(K, 2, o, v, mass, hg);
-  else HourglassRatesDim(K, 3, o, v, mass, hg);
+  if (K->dim == 2) HourglassRatesDim(K, 2, o, v, hg);
+  else HourglassRatesDim(K, 3, o, v, hg);
 }
 
 /* mixture values of a cell: material mass and volume, and its signal speed:
@@ -195,7 +192,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         }
         for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
         /* the hourglass rates of the cell materials' nodal velocities; the corners' mass and force */
-        HourglassRates(&K, oc, C->Pn, NULL, hg);
+        HourglassRates(&K, oc, C->Pn, hg);
         kap = HourglassKappa(&K, Mc, cmax);
         for (a = 0; a < nco; a++) {
           PetscReal *gn = &g[dof * (oc + K.off[a])];
@@ -411,8 +408,8 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
-        HourglassRates(&K, oc, C->vh, NULL, hgh);
-        HourglassRates(&K, oc, C->Pn, NULL, hg0); /* the cells' nodal velocity at t^n (PSCellsToGrid) */
+        HourglassRates(&K, oc, C->vh, hgh);
+        HourglassRates(&K, oc, C->Pn, hg0); /* the cells' nodal velocity at t^n (PSCellsToGrid) */
         for (e = 0; e < 4; e++)
           for (d = 0; d < 3; d++) gh[3 * e + d] = hgh[e][d];
         kap = HourglassKappa(&K, Mc, cmax);
@@ -520,7 +517,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
           const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1, kap = HourglassKappa(&K, Mc, cmax);
           PetscReal        hg[4][3];
           PetscInt         e;
-          HourglassRates(&K, oc, C->vh, NULL, hg);
+          HourglassRates(&K, oc, C->vh, hg);
           for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) hgw += kap * gh[3 * e + d] * hg[e][d] * dt;
         }

@@ -375,7 +375,6 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
 {
   PSCells        *C = S->cells;
   const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
-  const PetscInt  ncol = dim == 3 ? 4 : 2;
   PetscReal      *F, *K, *VB, *VL, *P = C->P, *Pn = C->Pn;
   PetscInt        lo[3], hi[3], i[3], e, m, q, ns;
   PSSweepDirs     sw;
