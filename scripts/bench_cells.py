@@ -27,7 +27,6 @@ the next).
 The line BENCH cells_<case>_<n>_<ranks> <rate> is for scripts/bench's table.
 """
 import sys
-import time
 
 import petsc4py
 
@@ -36,6 +35,7 @@ from petsc4py import PETSc  # noqa: E402
 
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
+from benchlib import timed_steps  # noqa: E402  (scripts/benchlib.py)
 
 opts = PETSc.Options()
 case = opts.getString("bench_case", "quadrants")
@@ -81,12 +81,7 @@ for _ in range(reps):
     S = core.make_solver(m)
     for _ in range(5):
         S.step()
-    mpi.Barrier()
-    t = time.perf_counter()
-    for _ in range(steps):
-        S.step()
-    mpi.Barrier()
-    t = time.perf_counter() - t
+    t = timed_steps(S, steps, mpi)
     best = t if best is None else min(best, t)
 rate = n * n * steps / best / comm.getSize()
 if comm.getRank() == 0:

@@ -12,7 +12,6 @@ the traction-separation law where plies meet) against bonded plies.
 """
 import os
 import sys
-import time
 
 import petsc4py
 
@@ -23,6 +22,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import oblique_plate_2d  # noqa: E402
 
 from plyshock import Contact, core  # noqa: E402
+from benchlib import timed_steps  # noqa: E402  (scripts/benchlib.py)
 
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
@@ -41,12 +41,7 @@ def bench(contact, interface=None):
         S.step()
     ts = []
     for _ in range(3):
-        mpi.Barrier()
-        t = time.perf_counter()
-        for _ in range(STEPS):
-            S.step()
-        mpi.Barrier()
-        ts.append(time.perf_counter() - t)
+        ts.append(timed_steps(S, STEPS, mpi))
     n = m.stats["markers"]
     return n * STEPS / min(ts) / comm.getSize(), n
 

@@ -10,7 +10,6 @@ apic|musl runs one of them).  The peer reference
 is ../shared/peers/taichi_mpm3d.py (scripts/bench runs it in the same script).
 """
 import sys
-import time
 
 import petsc4py
 
@@ -22,6 +21,7 @@ import numpy as np  # noqa: E402
 
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
+from benchlib import timed_steps  # noqa: E402  (scripts/benchlib.py)
 
 N = 64
 h = 1.0 / N
@@ -55,12 +55,7 @@ def bench(cases):
     best = {name: float("inf") for name in cases}
     for _ in range(5):
         for name, (S, n, b) in solvers.items():
-            mpi.Barrier()
-            t = time.perf_counter()
-            for _ in range(30):
-                S.step()
-            mpi.Barrier()
-            best[name] = min(best[name], time.perf_counter() - t)
+            best[name] = min(best[name], timed_steps(S, 30, mpi))
     rates = {}
     for name, (S, n, b) in solvers.items():
         t = best[name]

@@ -9,7 +9,6 @@ artificial viscosity): 0.50 M marker-steps/s on one rank, 0.87 M on two,
 measured on the project's machines, quoted not re-run.
 """
 import sys
-import time
 
 import petsc4py
 
@@ -18,6 +17,7 @@ from petsc4py import PETSc  # noqa: E402
 
 from plyshock import Body, Cylinder, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
+from benchlib import timed_steps  # noqa: E402  (scripts/benchlib.py)
 
 h = 0.25e-3
 R, L = 3.8e-3, 25.4e-3
@@ -34,12 +34,7 @@ m = core.initialize(scene)
 S = core.make_solver(m)
 for _ in range(5):
     S.step()
-mpi.Barrier()
-t = time.perf_counter()
-for _ in range(steps):
-    S.step()
-mpi.Barrier()
-t = time.perf_counter() - t
+t = timed_steps(S, steps, mpi)
 n = m.stats["markers"]
 if comm.getRank() == 0:
     rate = n * steps / t

@@ -14,6 +14,31 @@
 #include "cells.h"
 #include "../geom.h"
 
+/* the corners of a cell (cells.h PSCorners) for the node DMDA's local layout ix */
+static void CornersBuild(const PSSolver *S, const PSCells *C, const PSIndex *ix, PSCorners *K)
+{
+  const PetscInt dim = S->dim;
+  PetscInt       a, d;
+
+  K->dim = dim;
+  K->nco = 1 << dim;
+  for (a = 0; a < K->nco; a++) {
+    PetscReal s[3];
+    PetscInt  o[3];
+    for (d = 0; d < 3; d++) {
+      o[d] = d < dim ? (a >> d) & 1 : 0;
+      s[d] = o[d] ? 1.0 : -1.0;
+      K->gN[a][d] = d < dim ? s[d] / S->h[d] / (dim == 3 ? 4.0 : 2.0) : 0.0;
+    }
+    K->off[a]  = (o[2] * ix->gm[1] + o[1]) * ix->gm[0] + o[0];
+    K->G[a][0] = s[0] * s[1];
+    K->G[a][1] = s[1] * s[2];
+    K->G[a][2] = s[0] * s[2];
+    K->G[a][3] = s[0] * s[1] * s[2];
+  }
+  K->khg = C->hourglass / PetscMin(S->h[0], S->h[1]) / K->nco;
+}
+
 /* cells [lc[k], lc[k+1]) of rank k along one direction, from its nodes (markers.c's rule) */
 static PetscErrorCode CellRanges(const PSSolver *S, PetscInt d, PetscInt nc, PetscInt **lc)
 {
@@ -93,6 +118,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PetscCalloc1(nn * S->dim, &C->Pn));
   PetscCall(PetscCalloc2(nn, &C->mcn, nn * S->dim, &C->vh));
   PetscCall(PetscCalloc1(C->ncl, &C->Mcell));
+  CornersBuild(S, C, &ix, &C->K);
   {
     PetscInt nown = 1;
     for (d = 0; d < 3; d++) nown *= C->ce[d] - C->cs[d];

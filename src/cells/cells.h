@@ -40,6 +40,22 @@
 enum { PS_CV = 0, PS_CM = 1, PS_CE = 2, PS_CQ = 3 };
 enum { PS_CX_AM = 0, PS_CX_CM = 1, PS_CX_Q = 2, PS_CX_V = 3, PS_CX_N = 4 }; /* markers' volume fraction and compliance sum V_p/K_p (m^3/Pa), q (Pa), the cell's volume during the remap (m^3) */
 
+/* A cell's corners, the same for every cell: corner a (x
+   fastest, 0..2^dim - 1) is node o + off[a] of the ghosted local array, o the
+   cell's lower corner; grad N_a at the cell's centre (s_d / h_d times 1/2 for
+   each other direction: the bilinear (trilinear) element's one-point
+   quadrature); the hourglass patterns G_m(a) (2D xy; 3D xy, yz, xz, xyz;
+   Flanagan & Belytschko 1981).  Built once, with the cells (PSCellsCreate),
+   so the cells' loops do no index arithmetic, division or branching per
+   corner. */
+typedef struct {
+  PetscInt  dim, nco;     /* corners */
+  PetscInt  off[8];       /* node offsets from corner 0 */
+  PetscReal gN[8][3];     /* grad N_a at the centre (1/m) */
+  PetscReal G[8][4];      /* hourglass patterns */
+  PetscReal khg;          /* hourglass coefficient over min h and 2^dim: kappa / (h 2^dim) (1/m) */
+} PSCorners;
+
 typedef struct PSCells_ {
   PetscInt  dim;
   PetscInt  nmat;                 /* cell materials */
@@ -78,6 +94,7 @@ typedef struct PSCells_ {
   PetscReal discarded;            /* this rank: mass of traces discarded by the remap (kg; booked in lost_mass) */
   PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
   PetscReal sat[7];               /* the cell that sets it: centre x (m, 3), c, |v|, viscous term (m/s), density (kg/m^3) */
+  PSCorners  K;                   /* every cell's corners (lagrange.c) */
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */
 } PSCells;
 

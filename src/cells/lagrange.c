@@ -45,45 +45,6 @@
 
 static PetscLogEvent EV_C2G = 0, EV_Lag = 0, EV_Pred = 0;
 
-/* A cell's corners, the same for every cell of a phase: corner a (x
-   fastest, 0..2^dim - 1) is node o + off[a] of the ghosted local array, o the
-   cell's lower corner; grad N_a at the cell's centre (s_d / h_d times 1/2 for
-   each other direction: the bilinear (trilinear) element's one-point
-   quadrature); the hourglass patterns G_m(a) (2D xy; 3D xy, yz, xz, xyz;
-   Flanagan & Belytschko 1981).  Built once per phase (CornersBuild), so the
-   cells' loops do no index arithmetic, division or branching per corner. */
-typedef struct {
-  PetscInt  dim, nco;     /* corners */
-  PetscInt  off[8];       /* node offsets from corner 0 */
-  PetscReal gN[8][3];     /* grad N_a at the centre (1/m) */
-  PetscReal G[8][4];      /* hourglass patterns */
-  PetscReal khg;          /* hourglass coefficient over min h and 2^dim: kappa / (h 2^dim) (1/m) */
-} PSCorners;
-
-static void CornersBuild(const PSSolver *S, const PSIndex *ix, PSCorners *K)
-{
-  const PetscInt dim = S->dim;
-  PetscInt       a, d;
-
-  K->dim = dim;
-  K->nco = 1 << dim;
-  for (a = 0; a < K->nco; a++) {
-    PetscReal s[3];
-    PetscInt  o[3];
-    for (d = 0; d < 3; d++) {
-      o[d] = d < dim ? (a >> d) & 1 : 0;
-      s[d] = o[d] ? 1.0 : -1.0;
-      K->gN[a][d] = d < dim ? s[d] / S->h[d] / (dim == 3 ? 4.0 : 2.0) : 0.0;
-    }
-    K->off[a]  = (o[2] * ix->gm[1] + o[1]) * ix->gm[0] + o[0];
-    K->G[a][0] = s[0] * s[1];
-    K->G[a][1] = s[1] * s[2];
-    K->G[a][2] = s[0] * s[2];
-    K->G[a][3] = s[0] * s[1] * s[2];
-  }
-  K->khg = S->cells->hourglass / PetscMin(S->h[0], S->h[1]) / K->nco;
-}
-
 /* local index of cell (i, j, k)'s lower corner node */
 static inline PetscInt CellNode(const PSIndex *ix, PetscInt dim, PetscInt i, PetscInt j, PetscInt k)
 {
@@ -149,10 +110,8 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
   PetscInt        i, j, k, m, a, d, e, o, n = 0;
-  PSCorners       K;
 
   PetscFunctionBeginUser;
-  CornersBuild(S, ix, &K);
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
   PetscCall(PSCellsEOSCache(S));
@@ -192,15 +151,15 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         }
         for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
         /* the hourglass rates of the cell materials' nodal velocities; the corners' mass and force */
-        HourglassRates(&K, oc, C->Pn, hg);
-        kap = HourglassKappa(&K, Mc, cmax);
+        HourglassRates(&C->K, oc, C->Pn, hg);
+        kap = HourglassKappa(&C->K, Mc, cmax);
         for (a = 0; a < nco; a++) {
-          PetscReal *gn = &g[dof * (oc + K.off[a])];
+          PetscReal *gn = &g[dof * (oc + C->K.off[a])];
           gn[0] += Mc / nco;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
-            for (e = 0; e < dim; e++) fd -= sig[d][e] * K.gN[a][e];
-            for (e = 0; e < nh; e++) fd -= kap * K.G[a][e] * hg[e][d];
+            for (e = 0; e < dim; e++) fd -= sig[d][e] * C->K.gN[a][e];
+            for (e = 0; e < nh; e++) fd -= kap * C->K.G[a][e] * hg[e][d];
             gn[fo + d] += fs * fd;
           }
         }
@@ -334,10 +293,8 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   PetscReal      *g = S->g, hm = 0.0;
   PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0;
-  PSCorners       K;
 
   PetscFunctionBeginUser;
-  CornersBuild(S, ix, &K);
   if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
   PetscCall(PetscLogEventBegin(EV_Pred, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
@@ -361,7 +318,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         CellMix(C, u, ec, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* the half-step state at v^{n+1/2*}: half the volume change, shared */
-        CellGradient(&K, oc, C->vh, L, &vmax);
+        CellGradient(&C->K, oc, C->vh, L, &vmax);
         trD = L[0][0] + L[1][1] + L[2][2];
         dVh = 0.5 * C->Vc * dt * trD;
         PetscCall(PSCellsShareVolume(S, u, ec, dVh, dVk, NULL, NULL));
@@ -408,18 +365,18 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
-        HourglassRates(&K, oc, C->vh, hgh);
-        HourglassRates(&K, oc, C->Pn, hg0); /* the cells' nodal velocity at t^n (PSCellsToGrid) */
+        HourglassRates(&C->K, oc, C->vh, hgh);
+        HourglassRates(&C->K, oc, C->Pn, hg0); /* the cells' nodal velocity at t^n (PSCellsToGrid) */
         for (e = 0; e < 4; e++)
           for (d = 0; d < 3; d++) gh[3 * e + d] = hgh[e][d];
-        kap = HourglassKappa(&K, Mc, cmax);
+        kap = HourglassKappa(&C->K, Mc, cmax);
         /* the force change at the corners */
         for (a = 0; a < nco; a++) {
-          PetscReal *dfa = &C->df[dim * (oc + K.off[a])];
+          PetscReal *dfa = &C->df[dim * (oc + C->K.off[a])];
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
-            for (e = 0; e < dim; e++) fd -= dsig[d][e] * K.gN[a][e];
-            for (e = 0; e < nh; e++) fd -= kap * K.G[a][e] * (hgh[e][d] - hg0[e][d]);
+            for (e = 0; e < dim; e++) fd -= dsig[d][e] * C->K.gN[a][e];
+            for (e = 0; e < nh; e++) fd -= kap * C->K.G[a][e] * (hgh[e][d] - hg0[e][d]);
             dfa[d] += fd;
           }
         }
@@ -465,10 +422,8 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
   PetscInt        i, j, k, m, d, o, n = 0;
-  PSCorners       K;
 
   PetscFunctionBeginUser;
-  CornersBuild(S, ix, &K);
   if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
   PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
@@ -495,7 +450,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * (1 + C->ns)]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
-        CellGradient(&K, oc, C->vh, L, &vmax);
+        CellGradient(&C->K, oc, C->vh, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
            each moving with the mean velocity of its corners: the remap moves
            exactly this back) and its share among materials, markers, void */
@@ -514,10 +469,10 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
-          const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1, kap = HourglassKappa(&K, Mc, cmax);
+          const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1, kap = HourglassKappa(&C->K, Mc, cmax);
           PetscReal        hg[4][3];
           PetscInt         e;
-          HourglassRates(&K, oc, C->vh, hg);
+          HourglassRates(&C->K, oc, C->vh, hg);
           for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) hgw += kap * gh[3 * e + d] * hg[e][d] * dt;
         }
@@ -583,11 +538,9 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
   PSIndex   ix;
   PetscInt  i, j, k, a, d, n = 0;
   PetscReal smax = 0.0;
-  PSCorners K;
 
   PetscFunctionBeginUser;
   PetscCall(PSGridIndex(S->da, &ix));
-  CornersBuild(S, &ix, &K);
   PetscCall(PSCellsEOSCache(S));
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
@@ -595,8 +548,8 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
         PetscReal Mc, Vm, cmax, vmax = 0.0;
         CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * n * C->nmat], &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
-        for (a = 0; a < K.nco; a++) {
-          const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + K.off[a];
+        for (a = 0; a < C->K.nco; a++) {
+          const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + C->K.off[a];
           PetscReal      v2 = 0.0;
           for (d = 0; d < S->dim; d++) v2 += C->mcn[o] > 0.0 ? PetscSqr(C->P[S->dim * o + d] / C->mcn[o]) : 0.0;
           vmax = PetscMax(vmax, PetscSqrtReal(v2));

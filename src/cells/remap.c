@@ -259,6 +259,22 @@ static inline void SliceRange(PetscInt d, const PetscInt lo[3], const PetscInt h
   }
 }
 
+/* a free face of the domain lets a boundary node's share out: the mass out
+   (kg) at the node's velocity v, its momentum (P) and kinetic energy (K)
+   booked as lost */
+static inline void Outflow(PSSolver *S, PetscInt dim, PetscReal out, const PetscReal *v, PetscReal *P, PetscReal *K)
+{
+  PetscReal k2 = 0.0;
+  PetscInt  q;
+  for (q = 0; q < dim; q++) {
+    P[q] -= out * v[q];
+    S->lost_local.p[q] += out * v[q];
+    k2 += v[q] * v[q];
+  }
+  *K -= 0.5 * out * k2;
+  S->lost_local.kinetic += 0.5 * out * k2;
+}
+
 /* the momentum's dual flux of cell j (lower corner j): its mid-plane carries
    (F_lo + F_hi)/2 (the total mass fluxes of its faces along d) from its
    lower to its upper corner nodes, shared among the 2^(dim-1) node columns,
@@ -301,32 +317,12 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
         for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
         K[oL] -= phi * 0.5 * v2;
         /* free faces of the domain: outflow takes the boundary node's share */
-        if (bl) {
-          const PetscReal out = -Flo / ncol;
-          PetscReal       k2  = 0.0;
-          for (q = 0; q < dim; q++) {
-            Pn[dim * oL + q] -= out * vL[q];
-            S->lost_local.p[q] += out * vL[q];
-            k2 += vL[q] * vL[q];
-          }
-          K[oL] -= 0.5 * out * k2;
-          S->lost_local.kinetic += 0.5 * out * k2;
-        }
+        if (bl) Outflow(S, dim, -Flo / ncol, vL, &Pn[dim * oL], &K[oL]);
       }
       if (ownT && OwnedIndex(ix, d, i[d] + 1)) {
         for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
         K[oU] += phi * 0.5 * v2;
-        if (bu) {
-          const PetscReal out = Fhi / ncol;
-          PetscReal       k2  = 0.0;
-          for (q = 0; q < dim; q++) {
-            Pn[dim * oU + q] -= out * vU[q];
-            S->lost_local.p[q] += out * vU[q];
-            k2 += vU[q] * vU[q];
-          }
-          K[oU] -= 0.5 * out * k2;
-          S->lost_local.kinetic += 0.5 * out * k2;
-        }
+        if (bu) Outflow(S, dim, Fhi / ncol, vU, &Pn[dim * oU], &K[oU]);
       }
     }
 }
