@@ -40,10 +40,16 @@
             same contact law where the grid phase applied it (not booked: it
             only sets L_p); L_p from the marker's field at shared nodes  (PSContactReproject)
   The friction coefficient of field k at a node is that of the pair of k and
-  the heaviest other field there.  Cell materials join the single field only
-  (docs/contact.md).
+  the heaviest other field there.
+  Cell materials (src/cells/) join the single field only, and a node where they
+  have mass (the cells' nodal mass of the last fit, above mass_min) is never
+  shared: bodies that meet there through cell material are welded by it, as
+  bonded bodies are; they slide and separate where they meet without it.  The
+  cell material has one velocity per node, which no contact law here can split
+  among the fields (docs/contact.md says what was tried).
 */
 #include "contact.h"
+#include "cells/cells.h"
 
 /* one log event per kernel (registered by PSSolverSetContact) */
 static PetscLogEvent PS_EV_ContactP2G = 0, PS_EV_ContactGrid, PS_EV_ContactG2P, PS_EV_ContactReproject;
@@ -426,7 +432,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
         const PetscReal *mo = &C->mk[nf * o];
         PetscInt         nh = 0, q;
         for (q = 0; q < nf; q++) nh += mo[q] > S->mass_min;
-        C->shared[o] = nh >= 2;
+        C->shared[o] = nh >= 2 && !(S->cells && S->cells->mcn[o] > S->mass_min); /* cell material here: the single field (above) */
       }
   /* the near markers, and their full fields */
   for (p = 0; p < f->n; p++) {

@@ -22,7 +22,8 @@
   friction's tangential correction, which G2P books at the markers)
   and of the re-projection array h, per field k (dim reals):
       [(mv)_k] -> [v_k] (shared nodes).
-  A node is shared when two or more fields carry more than mass_min there; only
+  A node is shared when two or more fields carry more than mass_min there and
+  the cell materials (bodies in cells) do not (they weld the fields); only
   shared nodes use the fields, every other node the single field of the step's
   grid array (S->g, S->hv), which holds the sum of all fields.  Only markers
   that touch a shared node (near) pay for the fields: a first pass puts the

@@ -685,16 +685,9 @@ class Scene:
         self.contact.validate(bnames)
         lay = self.contact.layout(self)
         for i, b in enumerate(self.bodies):
-            if lay["split"][i] and any(c.representation == "cells" for c in self.bodies):
-                raise DeckError(f"bodies[{i}].laminate.interface", "cohesive ply interfaces are not supported "
-                                "beside bodies in cells yet; set type: bonded")
             if lay["split"][i] and lay["nfield"] > 16:
                 raise DeckError(f"bodies[{i}].laminate.interface", f"cohesive ply interfaces give each of its {len(b.laminate.plies)} plies a velocity "
                                 f"field: {lay['nfield']} fields in the scene; allowed at most 16")
-        if self.contact.fields(self)[1] >= 2 and any(b.representation == "cells" for b in self.bodies):
-            raise DeckError("contact", "friction between marker bodies (or cohesive ply interfaces) is not supported with bodies in cells yet "
-                            "(their force reaches the single velocity field only: docs/contact.md); "
-                            "set contact: {type: bonded}")
         if self.gauges is not None:
             if not isinstance(self.gauges, list):
                 raise DeckError("gauges", "must be a list of {name, point}")

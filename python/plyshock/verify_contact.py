@@ -104,6 +104,28 @@ def trap(contact, t_end=1.5e-6, h=50e-6, d=1e-3):
                  [CU], bs, Run(t_end=t_end, output_interval=0.0), contact=contact).validate()
 
 
+AIR = Material("air", density=1.225, eos={"type": "ideal-gas", "gamma": 1.4})    # U.S. Standard Atmosphere 1976, sea level
+AIR_P = 101325.0   # its pressure (Pa)
+
+
+def trap_in_air(contact, t_end=1.5e-6, h=50e-6, d=1e-3):
+    """The trap with air behind the rear plate up to a wall 4 mm away
+    (in_air): the bodies meet where no cell material is, so contact acts
+    there; the rear plate leaves into the air, a piston whose shock does not
+    reach the wall by t_end, which holds the still air at AIR_P."""
+    return in_air(trap(contact, t_end=t_end, h=h, d=d), 1e-3 + 3 * d)
+
+
+def in_air(s, x1):
+    """Scene s with air (cells, AIR_P) from x = x1 to its x+ face, made a wall
+    (symmetry): the air's pressure there is the only outside force, -AIR_P W
+    in x (W the strip's width)."""
+    air = Body("air", box=Box([x1, 0.0], [s.grid.upper[0], s.grid.upper[1]]), material="air", representation="cells",
+               pressure=AIR_P, priority=0)
+    g = Grid(s.grid.lower, s.grid.upper, s.grid.cells, dict(s.grid.boundary, **{"x+": "symmetry"}))
+    return Scene(2, g, list(s.materials) + [AIR], list(s.bodies) + [air], s.run, contact=s.contact).validate()
+
+
 def trap_axisymmetric(contact, t_end=1.5e-6, h=50e-6, d=1e-3, R=None):
     """The trap in axisymmetric 2D (x = r, y = z): copper disks of thickness d
     stacked along the axis, the flyer at V along +z.  R None: 4 cells wide
