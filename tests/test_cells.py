@@ -219,7 +219,9 @@ def test_marker_flyer_onto_a_cell_target_matches_impedance_matching(tmpdir_mpi):
     """A copper flyer on markers at 500 m/s onto a copper target in cells, in
     uniaxial strain: the target's shocked state is u_p = 250 m/s and
     p = 9.63 GPa (impedance matching, Us = c0 + s u_p); medians over the
-    shocked cells within 3%."""
+    shocked cells within 0.5% (measured 9.613 GPa, 249.7 m/s: 0.18%, 0.12%;
+    before the markers' FLIP increment at nodes shared with cells came from
+    their own old velocity, the verify report's plateau was 0.83% off here)."""
     h = 50e-6
     scene = Scene(2, Grid([0, 0], [6e-3, 4 * h], [120, 4], {"x-": "free", "x+": "free", "y-": "symmetry", "y+": "symmetry"}),
                   [CU], [Body("flyer", box=Box([0, 0], [2e-3, 4 * h]), material="cu", velocity=[500.0, 0.0], subdivision=2),
@@ -234,7 +236,7 @@ def test_marker_flyer_onto_a_cell_target_matches_impedance_matching(tmpdir_mpi):
     if COMM.rank == 0:
         print(f"\nmarker flyer onto cell target: p {p / 1e9:.3f} GPa (9.63), u_p {u:.1f} m/s (250) over {shocked.sum()} cells")
     assert shocked.sum() >= 5
-    assert abs(p - 9.63e9) < 0.03 * 9.63e9 and abs(u - 250.0) < 0.03 * 250.0
+    assert abs(p - 9.63e9) < 0.005 * 9.63e9 and abs(u - 250.0) < 0.005 * 250.0
 
 
 def test_cell_outputs_follow_the_contract(tmpdir_mpi):
