@@ -329,6 +329,13 @@ static PetscErrorCode WriteSolver(PSSolver *S, PSCkptWriter *w, hid_t grp)
   row[5] = S->lost_local.kinetic + S->lost_local.internal;
   row[6] = (PetscReal)S->lost_local.markers;
   PetscCall(WriteTable(w, grp, "checkpoint", "ranks", PETSC_REAL, row, 1, PS_RANK_COLS, w->rank, w->size));
+  /* column 5's two books apart (kinetic, internal), so that a restart sums
+     them in the same order as the run it continues, bitwise; a checkpoint
+     without them restarts with column 5 as kinetic */
+  {
+    const PetscReal ki[2] = {S->lost_local.kinetic, S->lost_local.internal};
+    PetscCall(WriteTable(w, grp, "checkpoint", "lost_energies", PETSC_REAL, ki, 1, 2, w->rank, w->size));
+  }
   PetscCall(WriteShared(w, grp, "checkpoint", "state", PETSC_REAL, state, PS_STATE_LEN));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -813,7 +820,7 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
   PetscDataType types[PS_MAX_FIELDS];
   PetscInt64    off = 0, N, ng;
   hid_t         fapl, file, grp;
-  PetscReal     state[PS_STATE_LEN] = {0}, sched[PS_SCHEDULE_LEN], *rows;
+  PetscReal     state[PS_STATE_LEN] = {0}, sched[PS_SCHEDULE_LEN], *rows, *lki;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -827,8 +834,14 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
   PetscCheck(grp >= 0, comm, PS_ERR_RUN, "checkpoint %s has no /checkpoint group", filename);
   nranks = (PetscInt)Rows(grp, "ranks");
   PetscCheck(nranks > 0 && Rows(grp, "state") == PS_STATE_LEN, comm, PS_ERR_RUN, "checkpoint %s is damaged or of another format (check it with PSCheckpointVerify)", filename);
-  PetscCall(PetscMalloc1(PS_RANK_COLS * nranks, &rows));
+  PetscCall(PetscMalloc2(PS_RANK_COLS * nranks, &rows, 2 * nranks, &lki));
   PetscCall(ReadAll(grp, "ranks", H5T_NATIVE_DOUBLE, rows));
+  if (H5Lexists(grp, "lost_energies", H5P_DEFAULT) > 0 && Rows(grp, "lost_energies") == nranks) PetscCall(ReadAll(grp, "lost_energies", H5T_NATIVE_DOUBLE, lki));
+  else
+    for (r = 0; r < nranks; r++) {
+      lki[2 * r]     = rows[PS_RANK_COLS * r + 5];
+      lki[2 * r + 1] = 0.0;
+    }
   PetscCall(ReadAll(grp, "state", H5T_NATIVE_DOUBLE, state));
   N = 0;
   for (r = 0; r < nranks; r++) N += (PetscInt64)rows[PS_RANK_COLS * r];
@@ -842,8 +855,9 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
     S->lost_local.p[0]    = row[2];
     S->lost_local.p[1]    = row[3];
     S->lost_local.p[2]    = row[4];
-    S->lost_local.kinetic = row[5];
-    S->lost_local.markers = (PetscInt64)row[6];
+    S->lost_local.kinetic  = lki[2 * rank];
+    S->lost_local.internal = lki[2 * rank + 1];
+    S->lost_local.markers  = (PetscInt64)row[6];
   } else {
     /* another rank count: equal slabs, books summed on rank 0, then migrate */
     off = N * rank / size;
@@ -855,11 +869,12 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
         S->lost_local.p[0] += row[2];
         S->lost_local.p[1] += row[3];
         S->lost_local.p[2] += row[4];
-        S->lost_local.kinetic += row[5];
+        S->lost_local.kinetic += lki[2 * r];
+        S->lost_local.internal += lki[2 * r + 1];
         S->lost_local.markers += (PetscInt64)row[6];
       }
   }
-  PetscCall(PetscFree(rows));
+  PetscCall(PetscFree2(rows, lki));
   PetscCall(DMSwarmSetLocalSizes(S->sw, n, PetscMax(16, n / 16)));
   PetscCall(PSMarkersFieldList(S->scene, &nf, names, bs, types));
   for (f = 0; f < nf; f++) {

@@ -41,12 +41,18 @@
             only sets L_p); L_p from the marker's field at shared nodes  (PSContactReproject)
   The friction coefficient of field k at a node is that of the pair of k and
   the heaviest other field there.
-  Cell materials (src/cells/) join the single field only, and a node where they
-  have mass (the cells' nodal mass of the last fit, above mass_min) is never
-  shared: bodies that meet there through cell material are welded by it, as
-  bonded bodies are; they slide and separate where they meet without it.  The
-  cell material has one velocity per node, which no contact law here can split
-  among the fields (docs/contact.md says what was tried).
+  Cell materials (src/cells/) put their nodal mass, momentum and force into the
+  single field.  At a shared node where they have mass (m_c = m_i - sum_k m_ik
+  > mass_min), that share (the single field's old and new momentum less the
+  fields', which carries the boundary conditions) is shared among the fields
+  in proportion to their masses, so each field feels the cells' force and
+  the contact law acts on fields with the cells' mass in them (momentum
+  conserved to round-off); the cells read the single field, the fields'
+  centre of mass, and the cells' predictor's correction of it is added to
+  every field there (PSContactCellsSync).  The cell material at such a node
+  follows neither body, so what the markers crowd out of the cells around it
+  is discarded and booked rather than crushed (src/cells/closure.c;
+  docs/contact.md measures the alternatives).
 */
 #include "contact.h"
 #include "cells/cells.h"
@@ -432,7 +438,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
         const PetscReal *mo = &C->mk[nf * o];
         PetscInt         nh = 0, q;
         for (q = 0; q < nf; q++) nh += mo[q] > S->mass_min;
-        C->shared[o] = nh >= 2 && !(S->cells && S->cells->mcn[o] > S->mass_min); /* cell material here: the single field (above) */
+        C->shared[o] = nh >= 2;
       }
   /* the near markers, and their full fields */
   for (p = 0; p < f->n; p++) {
@@ -479,12 +485,13 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* 2. the fields' grid update and the contact law at shared nodes (after the
-   single field's grid solve) */
+/* 2. the fields' grid update, the cells' share joined to them, and the
+   contact law at shared nodes (after the single field's grid solve) */
 PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
 {
   PSContact     *C   = S->contact;
   const PetscInt dim = S->dim, nf = C->nfield, fs = C->fs;
+  const PetscInt dof = PSGridDof(S), fo = dof - dim;
   PetscInt       a, b, c, k, d, lo[3], hi[3], pair[2];
   PetscReal      m[16], gm[16][3], v[16][3], vo[16][3], V[16], psi[16], al[16], dvf[16][3], iwork, dD;
 
@@ -515,6 +522,39 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
           PSNodeBC(S, ip, v[k]);
           PSNodeBC(S, ip, gm[k]); /* a symmetry face mirrors the body: no gradient across it */
         }
+        /* the cells' share of the node, by mass among the fields present */
+        C->cj[o] = 0;
+        if (S->cells) {
+          const PetscReal *gs = &S->g[dof * o];
+          PetscReal        mc = gs[0], pn[3], po[3], mm = 0.0;
+          for (d = 0; d < dim; d++) {
+            pn[d]              = gs[0] * gs[1 + d];
+            po[d]              = gs[0] * (gs[1 + d] - gs[fo + d]);
+            C->vs[dim * o + d] = gs[1 + d];
+          }
+          for (k = 0; k < nf; k++) {
+            mc -= m[k];
+            for (d = 0; d < dim; d++) {
+              pn[d] -= m[k] * v[k][d];
+              po[d] -= m[k] * vo[k][d];
+            }
+            if (m[k] > S->mass_min) mm += m[k];
+          }
+          if (mc > S->mass_min) {
+            C->cj[o] = 1;
+            for (k = 0; k < nf; k++) {
+              PetscReal w, ma;
+              if (m[k] <= S->mass_min) continue;
+              w  = m[k] / mm;
+              ma = m[k] + w * mc;
+              for (d = 0; d < dim; d++) {
+                v[k][d]  = (m[k] * v[k][d] + w * pn[d]) / ma;
+                vo[k][d] = (m[k] * vo[k][d] + w * po[d]) / ma;
+              }
+              m[k] = ma;
+            }
+          }
+        }
         ContactLaw(S, C, ip, dt, m, (const PetscReal(*)[3])gm, V, psi, v, dvf, al, &iwork, &dD, pair);
         C->interface_energy += iwork;
         for (k = 0; k < nf; k++) {
@@ -525,6 +565,40 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
           gn[k * fs + 3 + 3 * dim] = al[k]; /* the cohesive law's fraction alpha, for the re-projection */
           for (d = 0; d < dim; d++) gn[k * fs + 4 + 3 * dim + d] = dvf[k][d]; /* friction's correction, for G2P's book */
           gn[k * fs + 2 + 3 * dim] = dD >= 0.0 && (k == pair[0] || k == pair[1]) ? dD : -1.0; /* the node's decrement of psi for G2P */
+        }
+      }
+  PetscCall(PetscLogEventEnd(PS_EV_ContactGrid, 0, 0, 0, 0));
+  PetscCall(PSHaloBcast(C->sfg, C->g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* 2b. (bodies in cells, after PSCellsPredict) the predictor's correction of
+   the single field's v^new at a shared node with cell mass, added to each
+   field there: each holds its share of the cells, and the shares' centre of
+   mass is the single field (PSContactGridSolve) */
+PetscErrorCode PSContactCellsSync(PSSolver *S, const PSIndex *ix)
+{
+  PSContact     *C   = S->contact;
+  const PetscInt dim = S->dim, fs = C->fs, dof = PSGridDof(S);
+  PetscInt       a, b, c, d, k, lo[3], hi[3];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(PS_EV_ContactGrid, 0, 0, 0, 0));
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
+  for (c = lo[2]; c < hi[2]; c++)
+    for (b = lo[1]; b < hi[1]; b++)
+      for (a = lo[0]; a < hi[0]; a++) {
+        const PetscInt   o  = Lidx(ix, a, b, c);
+        const PetscReal *gs = &S->g[dof * o];
+        if (!C->shared[o] || !C->cj[o]) continue;
+        for (k = 0; k < C->nfield; k++) {
+          PetscReal *gk = &C->g[C->gdof * o + k * fs];
+          if (gk[0] <= S->mass_min) continue;
+          for (d = 0; d < dim; d++) {
+            const PetscReal dv = gs[1 + d] - C->vs[dim * o + d];
+            gk[1 + d] += dv;
+            gk[1 + dim + d] += dv;
+          }
         }
       }
   PetscCall(PetscLogEventEnd(PS_EV_ContactGrid, 0, 0, 0, 0));
@@ -754,7 +828,7 @@ PetscErrorCode PSSolverSetContact(PSSolver *S, PetscInt nbody, const PetscInt fi
   PetscCall(PSGridIndex(S->da, &ix));
   C->nl = ix.gm[0] * ix.gm[1] * ix.gm[2];
   PetscCall(PetscCalloc2(C->nl * C->gdof, &C->g, C->nl * C->hdof, &C->h));
-  PetscCall(PetscCalloc2(C->nl * nfield, &C->mk, C->nl, &C->shared));
+  PetscCall(PetscCalloc4(C->nl * nfield, &C->mk, C->nl, &C->shared, C->nl, &C->cj, C->nl * S->dim, &C->vs));
   PetscCall(PSHaloCreate(S, C->gdof, &C->sfg));
   PetscCall(PSHaloCreate(S, C->hdof, &C->sfh));
   PetscCall(PSHaloCreate(S, nfield, &C->sfm));
@@ -770,7 +844,7 @@ PetscErrorCode PSContactDestroy(PSContact **C)
   PetscCall(PetscFree((*C)->mu));
   PetscCall(PetscFree2((*C)->coh, (*C)->cohp));
   PetscCall(PetscFree2((*C)->g, (*C)->h));
-  PetscCall(PetscFree2((*C)->mk, (*C)->shared));
+  PetscCall(PetscFree4((*C)->mk, (*C)->shared, (*C)->cj, (*C)->vs));
   PetscCall(PetscFree2((*C)->near, (*C)->vold));
   PetscCall(PetscSFDestroy(&(*C)->sfm));
   PetscCall(PetscSFDestroy(&(*C)->sfg));

@@ -22,8 +22,7 @@
   friction's tangential correction, which G2P books at the markers)
   and of the re-projection array h, per field k (dim reals):
       [(mv)_k] -> [v_k] (shared nodes).
-  A node is shared when two or more fields carry more than mass_min there and
-  the cell materials (bodies in cells) do not (they weld the fields); only
+  A node is shared when two or more fields carry more than mass_min there; only
   shared nodes use the fields, every other node the single field of the step's
   grid array (S->g, S->hv), which holds the sum of all fields.  Only markers
   that touch a shared node (near) pay for the fields: a first pass puts the
@@ -55,6 +54,8 @@ typedef struct PSContact_ {
   PetscReal *mk;            /* ghosted local array of the fields' nodal masses alone (nfield per node): which nodes are shared */
   PetscSF    sfm;           /* its ghost exchange */
   char      *shared;        /* per ghosted local node: 1 where two or more fields are heavier than mass_min */
+  char      *cj;            /* per owned shared node: 1 where cell materials have mass there */
+  PetscReal *vs;            /* per such node (dim): the single field's v^new before the cells' predictor */
   char      *near;          /* per marker: 1 if it touches a shared node (it takes the field kernels; the others the single field's) */
   PetscReal *vold;          /* per marker (dim): a near marker's velocity before G2P (the single field's G2P updates every marker first) */
   PetscInt   nnear;         /* capacity of near and vold (markers) */
@@ -65,6 +66,7 @@ typedef struct PSContact_ {
 PETSC_INTERN PetscErrorCode PSContactDestroy(PSContact **);
 PETSC_INTERN PetscErrorCode PSContactP2G(PSSolver *, PSFields *, const PSIndex *);
 PETSC_INTERN PetscErrorCode PSContactGridSolve(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSContactCellsSync(PSSolver *, const PSIndex *);
 PETSC_INTERN PetscErrorCode PSContactG2P(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSContactReproject(PSSolver *, PSFields *, const PSIndex *);
 

@@ -10,8 +10,9 @@
                                   them; for those the same per velocity field, and its mass gradient
                 cells/lagrange.c  cells' nodal mass, momentum, force (same nodes)
     grid        grid.c            ghost sums, v_i with the boundary conditions, ghosts back
-    contact     contact.c         (bodies in contact) each field's v_i, the contact law where fields meet
+    contact     contact.c         (bodies in contact) each field's v_i (with its share of the cells'), the contact law where fields meet
     predict     cells/lagrange.c  the cells' half-step state and force; v_i corrected by its change
+                contact.c         (bodies in contact) the correction to each field where fields meet
     G2P         transfer_*.c      markers' velocity and displacement (musl: re-projection)
                 contact.c         (bodies in contact) redone for the markers near shared nodes, from their field
     Lagrange    cells/lagrange.c  cells deform with the nodal velocity: closure, EOS, strength
@@ -21,7 +22,8 @@
     stress      stress.c          markers' constitutive update, x_p += dx_p
     remap       cells/remap.c     cell materials and their momentum back to the fixed grid
     migrate     migrate.c         out-of-domain markers booked, the rest to their owners
-    fit         cells/closure.c   cell materials fitted around the markers' new volume
+    fit         cells/closure.c   cell materials fitted around the markers' new volume (discarded, booked,
+                                  where bodies meet in contact)
 */
 #include "step.h"
 #include "cells/cells.h"
@@ -66,6 +68,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PetscCall(PSGridSolve(S, &ix, dt));
   if (S->contact) PetscCall(PSContactGridSolve(S, &ix, dt));
   if (S->cells) PetscCall(PSCellsPredict(S, &ix, dt)); /* the cells' half-step force, v^{n+1} corrected */
+  if (S->cells && S->contact) PetscCall(PSContactCellsSync(S, &ix)); /* that correction to the fields where bodies meet */
   if (musl) PetscCall(PSMUSLG2P(S, &f, &ix, dt)); /* with contact too: contact.c redoes the markers near shared nodes */
   else PetscCall(PSAPICG2P(S, &f, &ix, dt));
   if (S->contact) PetscCall(PSContactG2P(S, &f, &ix, dt));
