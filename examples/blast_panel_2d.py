@@ -103,8 +103,8 @@ def setup(cell=1e-3, subdivision=2, layup="[0/90]s", ply_thickness=0.5e-3, charg
     # gauges on the panel's lower face: at its centre and at mid-span
     gauges = [{"name": "centre", "point": [0.25 * cell, base + 0.25 * ply_thickness]},
               {"name": "mid-span", "point": [half_span / 2, base + 0.25 * ply_thickness]}]
-    # panel and supports bonded: contact between marker bodies is not supported with bodies
-    # in cells yet (docs/contact.md)
+    # panel and supports bonded: the panel is clamped on them (contact beside the
+    # cells would let it lift off on the rebound; docs/contact.md)
     return Scene(2, Grid([0.0, 0.0], [width, height], cells, walls), mats, [air, charge, panel, support],
                  Run(t_end=t_end, output_interval=output_interval, history_interval=5, pic_fraction=pic_fraction), gauges,
                  contact=Contact(type="bonded"))
