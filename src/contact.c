@@ -55,7 +55,6 @@
   docs/contact.md measures the alternatives).
 */
 #include "contact.h"
-#include "cells/cells.h"
 
 /* one log event per kernel (registered by PSSolverSetContact) */
 static PetscLogEvent PS_EV_ContactP2G = 0, PS_EV_ContactGrid, PS_EV_ContactG2P, PS_EV_ContactReproject;

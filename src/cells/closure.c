@@ -338,7 +338,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
            (contact.c), the overflow is discarded, not crushed: there the
            cells' share moves with the fields' centre of mass, which neither
            body follows, and crushing the gas caught between two bodies drew
-           its work from no one (the oblique plate in air: total x40,
+           its work from no one (the oblique plate in air: total x42,
            docs/contact.md) */
         if (S->contact && ContactZone(S, &ix, i, j, k)) {
           const PetscReal phi = PetscMin(over / Vm, 1.0);
