@@ -522,7 +522,6 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
           PSNodeBC(S, ip, gm[k]); /* a symmetry face mirrors the body: no gradient across it */
         }
         /* the cells' share of the node, by mass among the fields present */
-        C->cj[o] = 0;
         if (S->cells) {
           const PetscReal *gs = &S->g[dof * o];
           PetscReal        mc = gs[0], pn[3], po[3], mm = 0.0;
@@ -540,7 +539,6 @@ PetscErrorCode PSContactGridSolve(PSSolver *S, const PSIndex *ix, PetscReal dt)
             if (m[k] > S->mass_min) mm += m[k];
           }
           if (mc > S->mass_min) {
-            C->cj[o] = 1;
             for (k = 0; k < nf; k++) {
               PetscReal w, ma;
               if (m[k] <= S->mass_min) continue;
@@ -589,7 +587,10 @@ PetscErrorCode PSContactCellsSync(PSSolver *S, const PSIndex *ix)
       for (a = lo[0]; a < hi[0]; a++) {
         const PetscInt   o  = Lidx(ix, a, b, c);
         const PetscReal *gs = &S->g[dof * o];
-        if (!C->shared[o] || !C->cj[o]) continue;
+        PetscReal        mc = gs[0]; /* the cells' mass here, as PSContactGridSolve found it */
+        if (!C->shared[o]) continue;
+        for (k = 0; k < C->nfield; k++) mc -= C->g[C->gdof * o + k * fs];
+        if (mc <= S->mass_min) continue;
         for (k = 0; k < C->nfield; k++) {
           PetscReal *gk = &C->g[C->gdof * o + k * fs];
           if (gk[0] <= S->mass_min) continue;
@@ -827,7 +828,7 @@ PetscErrorCode PSSolverSetContact(PSSolver *S, PetscInt nbody, const PetscInt fi
   PetscCall(PSGridIndex(S->da, &ix));
   C->nl = ix.gm[0] * ix.gm[1] * ix.gm[2];
   PetscCall(PetscCalloc2(C->nl * C->gdof, &C->g, C->nl * C->hdof, &C->h));
-  PetscCall(PetscCalloc4(C->nl * nfield, &C->mk, C->nl, &C->shared, C->nl, &C->cj, C->nl * S->dim, &C->vs));
+  PetscCall(PetscCalloc3(C->nl * nfield, &C->mk, C->nl, &C->shared, C->nl * S->dim, &C->vs));
   PetscCall(PSHaloCreate(S, C->gdof, &C->sfg));
   PetscCall(PSHaloCreate(S, C->hdof, &C->sfh));
   PetscCall(PSHaloCreate(S, nfield, &C->sfm));
@@ -843,7 +844,7 @@ PetscErrorCode PSContactDestroy(PSContact **C)
   PetscCall(PetscFree((*C)->mu));
   PetscCall(PetscFree2((*C)->coh, (*C)->cohp));
   PetscCall(PetscFree2((*C)->g, (*C)->h));
-  PetscCall(PetscFree4((*C)->mk, (*C)->shared, (*C)->cj, (*C)->vs));
+  PetscCall(PetscFree3((*C)->mk, (*C)->shared, (*C)->vs));
   PetscCall(PetscFree2((*C)->near, (*C)->vold));
   PetscCall(PetscSFDestroy(&(*C)->sfm));
   PetscCall(PetscSFDestroy(&(*C)->sfg));

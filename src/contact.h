@@ -54,8 +54,7 @@ typedef struct PSContact_ {
   PetscReal *mk;            /* ghosted local array of the fields' nodal masses alone (nfield per node): which nodes are shared */
   PetscSF    sfm;           /* its ghost exchange */
   char      *shared;        /* per ghosted local node: 1 where two or more fields are heavier than mass_min */
-  char      *cj;            /* per owned shared node: 1 where cell materials have mass there */
-  PetscReal *vs;            /* per such node (dim): the single field's v^new before the cells' predictor */
+  PetscReal *vs;            /* per owned shared node (dim): the single field's v^new before the cells' predictor (bodies in cells) */
   char      *near;          /* per marker: 1 if it touches a shared node (it takes the field kernels; the others the single field's) */
   PetscReal *vold;          /* per marker (dim): a near marker's velocity before G2P (the single field's G2P updates every marker first) */
   PetscInt   nnear;         /* capacity of near and vold (markers) */

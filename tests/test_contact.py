@@ -12,7 +12,7 @@ from plyshock import Body, Box, Contact, DeckError, Grid, Material, Run, Scene, 
 from plyshock import core
 from conftest import clean, histories_on_ranks, run_cli, write_deck
 
-from plyshock.verify_contact import AIR_P, AL, CU, V, slide, trap, trap_axisymmetric, trap_in_air   # noqa: F401  the scenes, shared with plyshock verify --only contact
+from plyshock.verify_contact import AIR, AIR_P, AL, CU, V, slide, trap, trap_axisymmetric, trap_in_air   # noqa: F401  the scenes, shared with plyshock verify --only contact
 from plyshock.verify_contact import bodies_csv as bodies        # {body name: its rows of bodies.csv}
 
 COMM = MPI.COMM_WORLD
@@ -319,14 +319,13 @@ def test_contact_beside_cells_in_3d(tmpdir_mpi):
     coarse cell's inelastic contact; -0.02% bonded)."""
     h, d, L = 100e-6, 1e-3, 8e-3
     W = 4 * h
-    air = Material("air", density=1.225, eos={"type": "ideal-gas", "gamma": 1.4})
     faces = {f: "symmetry" for f in ("x-", "x+", "y-", "y+", "z-", "z+")}
     res = {}
     for kind in ("friction", "bonded"):
         bs = [Body(n, box=Box([1e-3 + i * d, 0, 0], [1e-3 + (i + 1) * d, W, W]), material="cu", velocity=[V if i == 0 else 0.0, 0.0, 0.0],
                    subdivision=2, priority=1) for i, n in enumerate(("flyer", "front", "rear"))]
         bs.append(Body("air", box=Box([0, 0, 0], [L, W, W]), material="air", representation="cells", pressure=AIR_P, priority=0))
-        sc = Scene(3, Grid([0, 0, 0], [L, W, W], [round(L / h), 4, 4], faces), [CU, air], bs, Run(t_end=1.5e-6, output_interval=0.0),
+        sc = Scene(3, Grid([0, 0, 0], [L, W, W], [round(L / h), 4, 4], faces), [CU, AIR], bs, Run(t_end=1.5e-6, output_interval=0.0),
                    contact=Contact(type=kind)).validate()
         out = os.path.join(tmpdir_mpi, kind)
         run_scene(sc, out)
