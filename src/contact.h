@@ -58,7 +58,7 @@ typedef struct PSContact_ {
   char      *near;          /* per marker: 1 if it touches a shared node (it takes the field kernels; the others the single field's) */
   PetscReal *vold;          /* per marker (dim): a near marker's velocity before G2P (the single field's G2P updates every marker first) */
   PetscInt   nnear;         /* capacity of near and vold (markers) */
-  PetscReal  friction_work; /* this rank's kinetic energy the tangential corrections took from its markers, cumulative (J) */
+  PetscReal  friction_work; /* this rank's friction impulses on its markers' mean velocities, cumulative (J) */
   PetscReal  interface_energy; /* this rank's energy the cohesive laws took (dissipated in opening), cumulative (J) */
 } PSContact;
 

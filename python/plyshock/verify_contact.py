@@ -177,15 +177,16 @@ def contact_study(print0, quick=False):
         rows.append(dict(problem="trap", size=h, steps=steps, wall_s=wall, error=e))
         print0(f"trap     h {h * 1e6:5.1f} um  steps {steps:5d}  wall {wall:6.2f} s  rear {v['rear']:.2f}, front {v['front']:.2f}, "
                f"flyer {v['flyer']:.2f} m/s  error {e:.3e}")
+    from .verify import run_scratch
     for h in ((0.5e-3, 0.25e-3) if quick else (0.5e-3, 0.25e-3, 0.125e-3)):
-        B, wall, steps = _run(slide(MU, h=h))
-        b = B["block"]
+        (B, H), wall, _, S = run_scratch(slide(MU, h=h), lambda d: (bodies_csv(d), _history(d)))
+        steps, b = S.step_count, B["block"]
         dvx, dvy = b["vx"][-1] - b["vx"][0], b["vy"][-1] - b["vy"][0]
         e = abs(-dvx / dvy - MU) / MU
         rows.append(dict(problem="coulomb", size=h, steps=steps, wall_s=wall, error=e))
-        print0(f"coulomb  h {h * 1e3:5.3f} mm  steps {steps:5d}  wall {wall:6.2f} s  -dv_x/dv_y {-dvx / dvy:.4f} (mu {MU})  error {e:.3e}")
+        print0(f"coulomb  h {h * 1e3:5.3f} mm  steps {steps:5d}  wall {wall:6.2f} s  -dv_x/dv_y {-dvx / dvy:.4f} (mu {MU})  error {e:.3e}  "
+               f"total drift {100 * (H['total'][-1] / H['total'][0] - 1):+.2f}% (friction work {H['friction_work'][-1]:.3f} J/m)")
     # the cohesive laws: the energy taken against G times the interface opened
-    from .verify import run_scratch
     cohesive = (("mode I", "G_I A", (50e-6, 25e-6, 12.5e-6), lambda h: spall(100e6, h=h), lambda h: G_I * 4 * h),
                 ("mode II", "G_II L", (100e-6, 50e-6, 25e-6), lambda h: lap_shear(h=h), lambda h: G_II * 5e-3))
     for prob, ref, sizes, scene, taken in cohesive:
