@@ -1,6 +1,8 @@
 /*
-  clip.c - exact half-space clipping of boxes and their moments (see clip.h).
+  clip.c - exact half-space clipping of boxes and their moments (see clip.h),
+  and the closed form of a box cut by a slab (PSBoxSlabMoments).
 */
+#include <math.h>
 #include <string.h>
 #include "clip.h"
 
@@ -215,4 +217,99 @@ void PSPoly3Moments(const PSPoly3 *p, double m[4])
   m[1] = m[1] / -24.0 + m[0] * o[0];
   m[2] = m[2] / -24.0 + m[0] * o[1];
   m[3] = m[3] / -24.0 + m[0] * o[2];
+}
+
+/* ------------------------------------------------- a box cut by a slab ---- */
+
+/* Moments of {y in [0, L]^k : an.y <= s} in the k directions ax[] where
+   an > 0, by inclusion-exclusion over the box's corners c_v: the corner's
+   simplex {y >= c_v, an.y <= s} has the volume t^k / (k! prod an) and its
+   centroid at c_v + t / ((k + 1) an), t = s - an.c_v (Scardovelli & Zaleski,
+   J. Comput. Phys. 164 (2000) 228, for the volume).  M[0] the k-volume,
+   M[1 + i] its first moment along axis i; not yet divided by k! prod an. */
+static void CornerSum(int k, const int ax[3], const double L[3], const double an[3], double s, double M[4])
+{
+  int v, j;
+  M[0] = M[1] = M[2] = M[3] = 0.0;
+  for (v = 0; v < (1 << k); v++) {
+    double t = s, tk = 1.0, sg = 1.0;
+    for (j = 0; j < k; j++)
+      if (v >> j & 1) {
+        t -= an[ax[j]] * L[ax[j]];
+        sg = -sg;
+      }
+    if (t <= 0.0) continue;
+    for (j = 0; j < k; j++) tk *= t;
+    tk *= sg;
+    M[0] += tk;
+    for (j = 0; j < k; j++) M[1 + ax[j]] += tk * ((v >> j & 1 ? L[ax[j]] : 0.0) + t / ((k + 1) * an[ax[j]]));
+  }
+}
+
+/* box ∩ {an.y <= s} of the cut directions, divided out (F(s) of PSBoxSlabMoments):
+   the whole box exactly once s reaches S = an.L */
+static void CutMoments(int k, const int ax[3], const double L[3], const double A[3], const double an[3], double S, double s, double M[4])
+{
+  int    j;
+  double q = 1.0;
+  if (s >= S) {
+    M[1] = M[2] = M[3] = 0.0;
+    for (j = 0; j < k; j++) q *= L[ax[j]];
+    M[0] = q;
+    for (j = 0; j < k; j++) M[1 + ax[j]] = q * A[ax[j]];
+    return;
+  }
+  CornerSum(k, ax, L, an, s, M);
+  for (j = 0; j < k; j++) q *= (j + 1) * an[ax[j]];
+  for (j = 0; j < 4; j++) M[j] /= q;
+}
+
+int PSBoxSlabMoments(int dim, const double A[3], const double n[3], double dlo, double dhi, double m[4])
+{
+  double an[3] = {0, 0, 0}, sg[3] = {1, 1, 1}, L[3] = {0, 0, 0}, nA = 0.0, S = 0.0, P = 1.0, kappa = 1.0, box = 1.0, s0, s1, V, M[4], Mlo[4];
+  int    ax[3], k = 0, i, j;
+
+  /* reflect the axes where n < 0 and move the origin to the box's corner:
+     y_i = sg_i x_i + A_i in [0, L_i], and n.x = an.y - an.A */
+  for (i = 0; i < dim; i++) {
+    an[i] = fabs(n[i]);
+    sg[i] = n[i] < 0.0 ? -1.0 : 1.0;
+    L[i]  = 2.0 * A[i];
+    nA += an[i] * A[i];
+    if (an[i] > 0.0) {
+      ax[k++] = i;
+      S += an[i] * L[i];
+      P *= k * an[i] * L[i];
+      box *= L[i];
+    }
+  }
+  if (!k) return 0;
+  /* conditioning: the largest corner term against the box, S^k / (k! prod an L);
+     past 1e3 (a normal close to a face's) the clipper does it */
+  for (j = 0; j < k; j++) kappa *= S;
+  kappa /= P;
+  if (kappa > 30) return 0;
+  s1 = dhi + nA;
+  s0 = dlo + nA;
+  if (s1 <= 0.0 || s0 >= S || s1 <= s0) return 0; /* no piece: the clipper's answer, whatever it is */
+  CutMoments(k, ax, L, A, an, S, s1, M);
+  if (s0 > 0.0) {
+    CutMoments(k, ax, L, A, an, S, s0, Mlo);
+    for (j = 0; j < 4; j++) M[j] -= Mlo[j];
+  }
+  /* a piece small against the corner terms' round-off (about 2^(k+1) kappa
+     eps of the box) would lose its centroid's digits: the clipper does it */
+  if (M[0] < (double)(2 << k) * kappa * 2.2e-4 * box) return 0;
+  /* the directions the slab does not cut: extrude */
+  V = M[0];
+  for (i = 0; i < dim; i++)
+    if (an[i] == 0.0) {
+      for (j = 0; j < 4; j++) M[j] *= L[i];
+      V *= L[i];
+      M[1 + i] = V * A[i];
+    }
+  /* back to the box centre and the original axes */
+  m[0] = V;
+  for (i = 0; i < 3; i++) m[1 + i] = i < dim ? sg[i] * (M[1 + i] - A[i] * V) : 0.0;
+  return 1;
 }

@@ -352,6 +352,17 @@ PS_INLINE void PieceMomentsT(const int dim, const double lo[3], const double hi[
     }
     return;
   }
+  /* a slab (a ply's two faces, or one face) through the box and nothing to
+     take away: the closed form (clip.c), where it keeps its digits */
+  if (!nsub2 && (npin == 1 || (npin == 2 && pin[1].n[0] == -pin[0].n[0] && pin[1].n[1] == -pin[0].n[1] && pin[1].n[2] == -pin[0].n[2]))) {
+    double A[3] = {0, 0, 0}, mm[4];
+    for (i = 0; i < dim; i++) A[i] = 0.5 * (hi[i] - lo[i]);
+    if (PSBoxSlabMoments(dim, A, pin[0].n, npin == 2 ? -pin[1].d : -INFINITY, pin[0].d, mm)) {
+      m[0] += mm[0];
+      for (i = 0; i < dim; i++) m[1 + i] += mm[1 + i] + mm[0] * ref[i];
+      return;
+    }
+  }
   /* planar: clip the box by the in-planes, then take away the sub regions */
   {
     double rlo[3] = {0, 0, 0}, rhi[3] = {0, 0, 0};
