@@ -285,7 +285,7 @@ int PSBoxSlabMoments(int dim, const double A[3], const double n[3], double dlo, 
   }
   if (!k) return 0;
   /* conditioning: the largest corner term against the box, S^k / (k! prod an L);
-     past 1e3 (a normal close to a face's) the clipper does it */
+     past 30 (a normal close to a face's) the clipper does it */
   for (j = 0; j < k; j++) kappa *= S;
   kappa /= P;
   if (kappa > 30) return 0;
