@@ -30,9 +30,10 @@
   aligned arrays), and the re-projection array 4 reals [0, mv_x, mv_y, mv_z];
   2D nodes [m, mv, f] and [mv].  The kernels are written once with the
   dimension dim and the nodes per direction N (2 linear, 3 GIMP and B-splines)
-  as constants at each call (always inlined): 2D/3D x N = 2/3 are four
-  compiled kernels.  Per row of N nodes along x the y-z factors are applied
-  once; in 3D each node then costs 4-wide multiply-adds only on the lanes it
+  as constants at each call (always inlined), and for GIMP the nodes that
+  carry weight per marker and direction (SupportNodes: 2 or 3; a marker
+  inside its cell along a direction skips the zero third node).  Per row of
+  nodes along x the y-z factors are applied once; in 3D each node then costs 4-wide multiply-adds only on the lanes it
   needs (P2G: one on the mass-momentum half, two on the force half; 8-wide
   registers would run the empty lanes too, at twice the cost on a CPU that
   splits them).  The arrays the passes after P2G store into are restrict.
@@ -40,13 +41,35 @@
 #include "step.h"
 #include "cells/cells.h"
 
+/* the shape function of a compiled kernel, a constant there: N = 2 linear,
+   N = 3 GIMP (vs) or B-splines */
+static inline __attribute__((always_inline)) PSShapeType KernelShape(const PetscInt N, const PetscBool vs)
+{
+  return N == 2 ? PS_SHAPE_LINEAR : vs ? PS_SHAPE_GIMP : PS_SHAPE_BSPLINE2;
+}
+
+/* the nodes per direction that carry weight, n[d] <= N.  GIMP's support
+   (vs, a constant: the support varies) is 2 nodes along a direction in
+   which the particle lies inside one cell (g = 0 in PSShapeWeights: the
+   third node's weight and derivative are exactly 0) and 3 where it
+   straddles a node.  The passes skip the third node where it is zero, which
+   changes no bit of any sum and cuts GIMP's 27 nodes to 8 for a marker
+   inside its cell (B-splines' third node is zero only at f = 1/2 exactly:
+   they keep 3, without the test) */
+static inline __attribute__((always_inline)) void SupportNodes(const PSShape *sh, const PetscInt dim, const PetscInt N, const PetscBool vs, PetscInt n[3])
+{
+  PetscInt d;
+  for (d = 0; d < 3; d++) n[d] = d < dim ? ((vs && sh->w[d][2] == 0.0 && sh->dw[d][2] == 0.0) ? 2 : N) : 1;
+}
+
 /* 1. P2G of one marker, dim and N constant */
-static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PSShape *sh, PetscReal *g)
+static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool vs, const PetscBool axi, const PSShape *sh, PetscReal *g)
 {
   const PetscInt   dof = dim == 3 ? 8 : 5, nz = dim == 3 ? N : 1, sy = dof * ix->gm[0], sz = sy * ix->gm[1];
   const PetscReal *x = &f->x[p * dim], *v = &f->v[p * dim], m = f->mass[p], V = f->vol[p];
   PetscReal        s[3][3], *g0;
-  PetscInt         a, b, c, d, e;
+  PetscInt         a, b, c, d, e, n[3];
+  SupportNodes(sh, dim, N, vs, n);
   ForceStress(dim, &f->sig[p * PSStressComponents(dim)], f->q[p], s);
   g0 = &g[dof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])]; /* first node; rows sy, planes sz apart */
   if (dim == 3) {
@@ -59,12 +82,12 @@ static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, c
     const PSv4 S0 = {0.0, -V * s[0][0], -V * s[1][0], -V * s[2][0]};
     const PSv4 S1 = {0.0, -V * s[0][1], -V * s[1][1], -V * s[2][1]};
     const PSv4 S2 = {0.0, -V * s[0][2], -V * s[1][2], -V * s[2][2]};
-    for (c = 0; c < N; c++) {
+    for (c = 0; c < N && c < n[2]; c++) {
       const PSv4 Tc = sh->w[2][c] * T, S0c = sh->w[2][c] * S0, S1c = sh->w[2][c] * S1, S2c = sh->dw[2][c] * S2;
-      for (b = 0; b < N; b++) {
+      for (b = 0; b < N && b < n[1]; b++) {
         const PSv4 Tb = sh->w[1][b] * Tc, F1 = sh->dw[1][b] * S1c + sh->w[1][b] * S2c, F0 = sh->w[1][b] * S0c;
         PetscReal *gr = g0 + c * sz + b * sy;
-        for (a = 0; a < N; a++) {
+        for (a = 0; a < N && a < n[0]; a++) {
           /* the marker's sum first, then one add into the node: the chain
              through memory to the next marker at the same node is one add */
           Store4(gr + 8 * a, Load4(gr + 8 * a) + sh->w[0][a] * Tb);
@@ -80,10 +103,10 @@ static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, c
       for (e = 0; e < 2; e++) Vs[d][e] = V * s[d][e];
     }
     for (c = 0; c < nz; c++)
-      for (b = 0; b < N; b++) {
+      for (b = 0; b < N && b < n[1]; b++) {
         const PetscReal wy = sh->w[1][b], dy = sh->dw[1][b];
         PetscReal      *gr = g0 + c * sz + b * sy;
-        for (a = 0; a < N; a++) {
+        for (a = 0; a < N && a < n[0]; a++) {
           const PetscReal w = sh->w[0][a] * wy, g_x = sh->dw[0][a] * wy, g_y = sh->w[0][a] * dy;
           PetscReal      *gn = gr + 5 * a;
           gn[0] += w * m;
@@ -116,7 +139,7 @@ static inline __attribute__((always_inline)) void MarkerGimpSize(const PSSolver 
   }
 }
 
-static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, PetscReal *g)
+static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool vs, const PetscBool axi, PetscReal *g)
 {
   PetscReal  V0 = -1.0;
   PSGimpSize G = {{0}, {0}, {0}};
@@ -125,16 +148,16 @@ static inline __attribute__((always_inline)) void P2GAll(PSSolver *S, const PSFi
     PSShapeAt at;
     PSShape   sh; /* locals: stores into g cannot alias them */
     MarkerGimpSize(S, f, p, dim, axi, &V0, &G);
-    PSShapeLocate(S->run.shape, dim, S->scene->lower, S->ih, &f->x[p * dim], &G, &at);
-    PSShapeWeights(S->run.shape, dim, S->ih, &at, &sh);
-    P2GMarker(S, f, p, ix, dim, N, axi, &sh, g);
+    PSShapeLocate(KernelShape(N, vs), dim, S->scene->lower, S->ih, &f->x[p * dim], &G, &at);
+    PSShapeWeights(KernelShape(N, vs), dim, S->ih, &at, &sh);
+    P2GMarker(S, f, p, ix, dim, N, vs, axi, &sh, g);
     S->at[p] = at; /* after the scatter, when the stores just made have reached the cache */
   }
 }
 
 /* 3. G2P: v_p = (1 - a)(v_p + sum N dv) + a sum N v_new, dx_p = dt sum N v_new;
    4. and in the same pass the re-projection (mv)_i += N_ip m_p v_p^{n+1} */
-static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscReal *restrict g, PetscReal *restrict hv)
+static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscInt N, const PetscBool vs, const PetscReal *restrict g, PetscReal *restrict hv)
 {
   const PetscInt  dof = dim == 3 ? 8 : 5, hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1;
   const PetscInt  sy = dof * ix->gm[0], sz = sy * ix->gm[1], hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
@@ -143,22 +166,24 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
 
   for (p = 0; p < f->n; p++) {
     PSShape          shl, *sh = &shl; /* a local: stores into hv cannot alias it */
-    PSMarkerWeights(S, p, dim, &shl);
+    PSShapeWeights(KernelShape(N, vs), dim, S->ih, &S->at[p], &shl);
     const PetscInt   o  = Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2]);
     const PetscReal *g0 = &g[dof * o];
     PetscReal       *h0 = &hv[hdof * o], *v = &f->v[p * dim], m = f->mass[p];
+    PetscInt         n[3];
+    SupportNodes(sh, dim, N, vs, n);
     if (dim == 3) {
       /* acc = (sum N v_new | sum N dv), 8-wide over the node's two halves,
          summed by row, then plane, then the planes (short add chains: the
          marker's velocity and its scatter wait on this sum) */
       PSv8 acc = {0, 0, 0, 0, 0, 0, 0, 0};
       PSv4 MV;
-      for (c = 0; c < N; c++) {
+      for (c = 0; c < N && c < n[2]; c++) {
         PSv8 ac = {0, 0, 0, 0, 0, 0, 0, 0};
-        for (b = 0; b < N; b++) {
+        for (b = 0; b < N && b < n[1]; b++) {
           const PetscReal *gr = g0 + c * sz + b * sy;
           PSv8             sr = sh->w[0][0] * Load8(gr);
-          for (a = 1; a < N; a++) sr += sh->w[0][a] * Load8(gr + 8 * a);
+          for (a = 1; a < N && a < n[0]; a++) sr += sh->w[0][a] * Load8(gr + 8 * a);
           ac += sh->w[1][b] * sr;
         }
         acc += sh->w[2][c] * ac;
@@ -168,19 +193,19 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
         S->dx[p * dim + d] = dt * acc[1 + d];
       }
       MV = (PSv4){0.0, m * v[0], m * v[1], m * v[2]};
-      for (c = 0; c < N; c++)
-        for (b = 0; b < N; b++) {
+      for (c = 0; c < N && c < n[2]; c++)
+        for (b = 0; b < N && b < n[1]; b++) {
           const PSv4 W  = (sh->w[1][b] * sh->w[2][c]) * MV;
           PetscReal *hr = h0 + c * hz + b * hy;
-          for (a = 0; a < N; a++) Store4(hr + 4 * a, Load4(hr + 4 * a) + sh->w[0][a] * W);
+          for (a = 0; a < N && a < n[0]; a++) Store4(hr + 4 * a, Load4(hr + 4 * a) + sh->w[0][a] * W);
         }
     } else {
       PetscReal vpic[2] = {0, 0}, dv[2] = {0, 0}, mv[2];
       for (c = 0; c < nz; c++)
-        for (b = 0; b < N; b++) {
+        for (b = 0; b < N && b < n[1]; b++) {
           const PetscReal  wy = sh->w[1][b];
           const PetscReal *gr = g0 + c * sz + b * sy;
-          for (a = 0; a < N; a++) {
+          for (a = 0; a < N && a < n[0]; a++) {
             const PetscReal  w  = sh->w[0][a] * wy;
             const PetscReal *gn = gr + 5 * a;
             vpic[0] += w * gn[1];
@@ -195,10 +220,10 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
         mv[d]              = m * v[d];
       }
       for (c = 0; c < nz; c++)
-        for (b = 0; b < N; b++) {
+        for (b = 0; b < N && b < n[1]; b++) {
           const PetscReal wy = sh->w[1][b];
           PetscReal      *hr = h0 + c * hz + b * hy;
-          for (a = 0; a < N; a++) {
+          for (a = 0; a < N && a < n[0]; a++) {
             const PetscReal w = sh->w[0][a] * wy;
             hr[2 * a] += w * mv[0];
             hr[2 * a + 1] += w * mv[1];
@@ -210,29 +235,31 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
 
 /* 5. L_p = sum_i v_i (x) grad N_ip from the re-projected velocities, into
    S->Lp (9 reals per marker, row major) */
-static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool axi, const PetscReal *restrict hv)
+static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const PSFields *f, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool vs, const PetscBool axi, const PetscReal *restrict hv)
 {
   const PetscInt hdof = dim == 3 ? 4 : 2, nz = dim == 3 ? N : 1, hy = hdof * ix->gm[0], hz = hy * ix->gm[1];
   PetscInt       p, a, b, c, d;
 
   for (p = 0; p < f->n; p++) {
     PSShape          shl, *sh = &shl;
-    PSMarkerWeights(S, p, dim, &shl);
+    PSShapeWeights(KernelShape(N, vs), dim, S->ih, &S->at[p], &shl);
     const PetscReal *h0 = &hv[hdof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])];
     PetscReal       *L  = &S->Lp[9 * p];
+    PetscInt         n[3];
+    SupportNodes(sh, dim, N, vs, n);
     if (dim == 3) {
       /* columns of L: c0 = sum dN/dx v, c1 = sum dN/dy v, c2 = sum dN/dz v.
          Per row, sw = sum_a w_x,a v_a and sd = sum_a dw_x,a v_a; per plane
          t0 = sum_b w_y sd, t1 = sum_b dw_y sw, t2 = sum_b w_y sw; then
          c0 += w_z t0, c1 += w_z t1, c2 += dw_z t2 (4-wide) */
       PSv4 c0 = {0, 0, 0, 0}, c1 = {0, 0, 0, 0}, c2 = {0, 0, 0, 0};
-      for (c = 0; c < N; c++) {
+      for (c = 0; c < N && c < n[2]; c++) {
         PSv4 t0 = {0, 0, 0, 0}, t1 = {0, 0, 0, 0}, t2 = {0, 0, 0, 0};
-        for (b = 0; b < N; b++) {
+        for (b = 0; b < N && b < n[1]; b++) {
           const PetscReal *hr = h0 + c * hz + b * hy;
           const PSv4       v0 = Load4(hr);
           PSv4             sw = sh->w[0][0] * v0, sd = sh->dw[0][0] * v0;
-          for (a = 1; a < N; a++) {
+          for (a = 1; a < N && a < n[0]; a++) {
             const PSv4 va = Load4(hr + 4 * a);
             sw += sh->w[0][a] * va;
             sd += sh->dw[0][a] * va;
@@ -253,10 +280,10 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
     } else {
       PetscReal l00 = 0, l01 = 0, l10 = 0, l11 = 0, vr = 0;
       for (c = 0; c < nz; c++)
-        for (b = 0; b < N; b++) {
+        for (b = 0; b < N && b < n[1]; b++) {
           const PetscReal  wy = sh->w[1][b], dy = sh->dw[1][b];
           const PetscReal *hr = h0 + c * hz + b * hy;
-          for (a = 0; a < N; a++) {
+          for (a = 0; a < N && a < n[0]; a++) {
             const PetscReal g_x = sh->dw[0][a] * wy, g_y = sh->w[0][a] * dy, *vn = hr + 2 * a;
             l00 += vn[0] * g_x;
             l01 += vn[0] * g_y;
@@ -276,24 +303,24 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
   }
 }
 
-/* the four compiled forms of each kernel (N: nodes per direction); P2G and
-   the gradient have two more, the axisymmetric 2D ones (call2a) */
+/* the compiled forms of each kernel: 2D and 3D x linear (N = 2), B-splines
+   (N = 3) and GIMP (N = 3, the support per marker, vs); P2G and the gradient
+   have three more, the axisymmetric 2D ones (call2a) */
+#define PS_MUSL_DISPATCH1(call) \
+  do { \
+    if (S->run.shape == PS_SHAPE_GIMP) call(3, PETSC_TRUE); \
+    else if (N == 3) call(3, PETSC_FALSE); \
+    else call(2, PETSC_FALSE); \
+  } while (0)
 #define PS_MUSL_DISPATCH(call3, call2) \
   do { \
-    if (S->dim == 3) { \
-      if (N == 3) call3(3); \
-      else call3(2); \
-    } else { \
-      if (N == 3) call2(3); \
-      else call2(2); \
-    } \
+    if (S->dim == 3) PS_MUSL_DISPATCH1(call3); \
+    else PS_MUSL_DISPATCH1(call2); \
   } while (0)
 #define PS_MUSL_DISPATCH_AXI(call3, call2, call2a) \
   do { \
-    if (S->dim == 2 && S->axi) { \
-      if (N == 3) call2a(3); \
-      else call2a(2); \
-    } else PS_MUSL_DISPATCH(call3, call2); \
+    if (S->dim == 2 && S->axi) PS_MUSL_DISPATCH1(call2a); \
+    else PS_MUSL_DISPATCH(call3, call2); \
   } while (0)
 
 /* 1. P2G of the markers into S->g (the grid phase sums the ghosts) */
@@ -304,9 +331,9 @@ PetscErrorCode PSMUSLP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_P2G, 0, 0, 0, 0));
-#define P2G3(n)  P2GAll(S, f, ix, 3, n, PETSC_FALSE, g)
-#define P2G2(n)  P2GAll(S, f, ix, 2, n, PETSC_FALSE, g)
-#define P2G2A(n) P2GAll(S, f, ix, 2, n, PETSC_TRUE, g)
+#define P2G3(n, vs)  P2GAll(S, f, ix, 3, n, vs, PETSC_FALSE, g)
+#define P2G2(n, vs)  P2GAll(S, f, ix, 2, n, vs, PETSC_FALSE, g)
+#define P2G2A(n, vs) P2GAll(S, f, ix, 2, n, vs, PETSC_TRUE, g)
   PS_MUSL_DISPATCH_AXI(P2G3, P2G2, P2G2A);
   PetscCall(PetscLogEventEnd(PS_EV_P2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -320,8 +347,8 @@ PetscErrorCode PSMUSLG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscReal 
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_G2P, 0, 0, 0, 0));
-#define G2P3(n) G2PAll(S, f, ix, dt, 3, n, g, hv)
-#define G2P2(n) G2PAll(S, f, ix, dt, 2, n, g, hv)
+#define G2P3(n, vs) G2PAll(S, f, ix, dt, 3, n, vs, g, hv)
+#define G2P2(n, vs) G2PAll(S, f, ix, dt, 2, n, vs, g, hv)
   PS_MUSL_DISPATCH(G2P3, G2P2);
   PetscCall(PetscLogEventEnd(PS_EV_G2P, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -343,9 +370,9 @@ PetscErrorCode PSMUSLReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
   PetscCall(PSHaloBcast(S->sfh, hv));
   /* with bodies in contact, contact.c then gives the markers next to a node
      where fields meet their L_p from their field (plane strain and 3D only) */
-#define GRAD3(n)  GradientAll(S, f, ix, 3, n, PETSC_FALSE, hv)
-#define GRAD2(n)  GradientAll(S, f, ix, 2, n, PETSC_FALSE, hv)
-#define GRAD2A(n) GradientAll(S, f, ix, 2, n, PETSC_TRUE, hv)
+#define GRAD3(n, vs)  GradientAll(S, f, ix, 3, n, vs, PETSC_FALSE, hv)
+#define GRAD2(n, vs)  GradientAll(S, f, ix, 2, n, vs, PETSC_FALSE, hv)
+#define GRAD2A(n, vs) GradientAll(S, f, ix, 2, n, vs, PETSC_TRUE, hv)
   PS_MUSL_DISPATCH_AXI(GRAD3, GRAD2, GRAD2A);
   PetscCall(PetscLogEventEnd(PS_EV_Reproject, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);

@@ -11,6 +11,7 @@ from mpi4py import MPI
 from plyshock import Body, Box, Contact, DeckError, Grid, Material, Run, Scene, Sphere
 from plyshock import core
 from conftest import energy_and_work_per_step, run_cli
+from helpers import gather
 
 COMM = MPI.COMM_WORLD
 CU = Material("cu", density=8930.0, eos={"type": "mie-gruneisen", "c0": 3940.0, "s": 1.489, "gamma0": 2.02})
@@ -156,6 +157,51 @@ def test_3d_elastic_wave_and_conservation_under_each_transfer(tmpdir_mpi):
         assert np.all(H["mass"] == H["mass"][0])
         assert np.max(np.abs(H["px"] - H["px"][0])) <= 1e-12 * H["px"][0], transfer
         assert np.max(np.abs(H["py"])) + np.max(np.abs(H["pz"])) <= 1e-12 * H["px"][0], transfer
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_gimp_support_keeps_momentum_and_rigid_translation_strain_free(dim, tmpdir_mpi):
+    """MUSL/GIMP visits per marker and direction only the nodes that carry
+    weight (2 while the particle lies inside one cell, 3 where it straddles a
+    node; transfer_musl.c SupportNodes).  Two blocks of 2^dim markers per cell
+    (l = h/4: half the markers' positions straddle) fly obliquely across
+    several cells, one translating rigidly, the other striking a third at
+    rest: every node that carries weight must be visited in P2G, G2P and the
+    gradient.  Momentum to round-off (a node missed in P2G or G2P breaks
+    sum_i grad N_ip = 0 or m_i = sum_p N_ip m_p); the rigidly moving block
+    stays strain-free (a node missed in the gradient gives L_p != 0 under a
+    uniform velocity): its stress under 1e-9 of the impact's rho c u.
+    run.mass_threshold 0: the default drops the force on the lightest nodes
+    (GIMP's far corners), 1e-9 of the momentum here."""
+    E, nu, rho = 1e9, 0.3, 1000.0
+    c = np.sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu) * rho))
+    h, u = 1e-3, 20.0
+    el = Material("el", density=rho, elastic={"type": "isotropic", "E": E, "nu": nu})
+    n = 24 if dim == 2 else 18
+    lo, hi = [0.0] * dim, [n * h] * dim
+    def box(a, b):
+        return Box([a[0] * h, a[1] * h] + ([a[2] * h] if dim == 3 else []), [b[0] * h, b[1] * h] + ([b[2] * h] if dim == 3 else []))
+    vel = [u, 0.6 * u, -0.35 * u][:dim]
+    bodies = [Body("rigid", box=box([2, 9, 8], [6, 13, 12]), material="el", velocity=vel, subdivision=2),
+              Body("flyer", box=box([2, 2, 2], [6, 6, 6]), material="el", velocity=[u, 0.6 * u, 0.35 * u][:dim], subdivision=2),
+              Body("target", box=box([7, 2, 2], [10, 7, 7]), material="el", subdivision=2)]
+    steps = 3.0 * h / u                                  # the blocks travel 3 cells
+    run = Run(t_end=steps, cfl=0.5, shape="gimp", transfer="musl", history_interval=5, output_interval=steps, mass_threshold=0.0,
+              artificial_viscosity={"c_linear": 0.0, "c_quadratic": 0.0})
+    scene = Scene(dim, Grid(lo, hi, [n] * dim), [el], bodies, run, contact=Contact(type="bonded")).validate()
+    m = run_scene(scene, tmpdir_mpi)
+    H = history(tmpdir_mpi)
+    p0 = rho * (4 * h) ** dim * u                        # one block's momentum, the scale of the round-off
+    assert np.all(H["mass"] == H["mass"][0])
+    for k, comp in enumerate("xyz"[:dim]):
+        assert np.max(np.abs(H["p" + comp] - H["p" + comp][0])) < 1e-12 * p0, (comp, H["p" + comp])
+    f = gather(m, ["body", "stress", "v"])
+    rigid = f["body"][:, 0] == 0
+    assert np.count_nonzero(rigid) == 2 ** dim * 4 ** dim
+    assert np.max(np.abs(f["stress"][rigid])) < 1e-9 * rho * c * u, np.max(np.abs(f["stress"][rigid]))
+    assert np.max(np.abs(f["v"][rigid] - vel)) < 1e-9 * u
+    target = f["body"][:, 0] == 2
+    assert np.max(np.abs(f["stress"][target])) > 1e-3 * rho * c * u   # the strike did load the target
 
 
 def test_apic_dissipates_between_flip_and_pic_and_conserves_momentum(tmpdir_mpi):
