@@ -31,7 +31,7 @@
   2D nodes [m, mv, f] and [mv].  The kernels are written once with the
   dimension dim and the nodes per direction N (2 linear, 3 GIMP and B-splines)
   as constants at each call (always inlined), and for GIMP the nodes that
-  carry weight per marker and direction (SupportNodes: 2 or 3; a marker
+  carry weight per marker and direction (PSShapeSupport, step.h: 2 or 3; a marker
   inside its cell along a direction skips the zero third node).  Per row of
   nodes along x the y-z factors are applied once; in 3D each node then costs 4-wide multiply-adds only on the lanes it
   needs (P2G: one on the mass-momentum half, two on the force half; 8-wide
@@ -48,19 +48,6 @@ static inline __attribute__((always_inline)) PSShapeType KernelShape(const Petsc
   return N == 2 ? PS_SHAPE_LINEAR : vs ? PS_SHAPE_GIMP : PS_SHAPE_BSPLINE2;
 }
 
-/* the nodes per direction that carry weight, n[d] <= N.  GIMP's support
-   (vs, a constant: the support varies) is 2 nodes along a direction in
-   which the particle lies inside one cell (g = 0 in PSShapeWeights: the
-   third node's weight and derivative are exactly 0) and 3 where it
-   straddles a node.  The passes skip the third node where it is zero, which
-   changes no bit of any sum and cuts GIMP's 27 nodes to 8 for a marker
-   inside its cell (B-splines' third node is zero only at f = 1/2 exactly:
-   they keep 3, without the test) */
-static inline __attribute__((always_inline)) void SupportNodes(const PSShape *sh, const PetscInt dim, const PetscInt N, const PetscBool vs, PetscInt n[3])
-{
-  PetscInt d;
-  for (d = 0; d < 3; d++) n[d] = d < dim ? ((vs && sh->w[d][2] == 0.0 && sh->dw[d][2] == 0.0) ? 2 : N) : 1;
-}
 
 /* 1. P2G of one marker, dim and N constant */
 static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool vs, const PetscBool axi, const PSShape *sh, PetscReal *g)
@@ -69,7 +56,7 @@ static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, c
   const PetscReal *x = &f->x[p * dim], *v = &f->v[p * dim], m = f->mass[p], V = f->vol[p];
   PetscReal        s[3][3], *g0;
   PetscInt         a, b, c, d, e, n[3];
-  SupportNodes(sh, dim, N, vs, n);
+  PSShapeSupport(sh, dim, N, vs, n);
   ForceStress(dim, &f->sig[p * PSStressComponents(dim)], f->q[p], s);
   g0 = &g[dof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])]; /* first node; rows sy, planes sz apart */
   if (dim == 3) {
@@ -171,7 +158,7 @@ static inline __attribute__((always_inline)) void G2PAll(PSSolver *S, PSFields *
     const PetscReal *g0 = &g[dof * o];
     PetscReal       *h0 = &hv[hdof * o], *v = &f->v[p * dim], m = f->mass[p];
     PetscInt         n[3];
-    SupportNodes(sh, dim, N, vs, n);
+    PSShapeSupport(sh, dim, N, vs, n);
     if (dim == 3) {
       /* acc = (sum N v_new | sum N dv), 8-wide over the node's two halves,
          summed by row, then plane, then the planes (short add chains: the
@@ -246,7 +233,7 @@ static inline __attribute__((always_inline)) void GradientAll(PSSolver *S, const
     const PetscReal *h0 = &hv[hdof * Lidx(ix, sh->i0[0], sh->i0[1], sh->i0[2])];
     PetscReal       *L  = &S->Lp[9 * p];
     PetscInt         n[3];
-    SupportNodes(sh, dim, N, vs, n);
+    PSShapeSupport(sh, dim, N, vs, n);
     if (dim == 3) {
       /* columns of L: c0 = sum dN/dx v, c1 = sum dN/dy v, c2 = sum dN/dz v.
          Per row, sw = sum_a w_x,a v_a and sd = sum_a dw_x,a v_a; per plane
