@@ -48,7 +48,6 @@ static inline __attribute__((always_inline)) PSShapeType KernelShape(const Petsc
   return N == 2 ? PS_SHAPE_LINEAR : vs ? PS_SHAPE_GIMP : PS_SHAPE_BSPLINE2;
 }
 
-
 /* 1. P2G of one marker, dim and N constant */
 static inline __attribute__((always_inline)) void P2GMarker(const PSSolver *S, const PSFields *f, PetscInt p, const PSIndex *ix, const PetscInt dim, const PetscInt N, const PetscBool vs, const PetscBool axi, const PSShape *sh, PetscReal *g)
 {
