@@ -399,10 +399,9 @@ static void ContactLaw(const PSSolver *S, const PSContact *C, const PetscInt ip[
    markers); elsewhere they are partial and unused. */
 PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
-  PSContact      *C   = S->contact;
-  const PetscInt  dim = S->dim, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1, fs = C->fs, nf = C->nfield;
-  const PetscBool gimp = S->run.shape == PS_SHAPE_GIMP ? PETSC_TRUE : PETSC_FALSE; /* the support varies (PSShapeSupport) */
-  PetscInt        p, a, b, c, d, e, lo[3], hi[3], i, j, k, n[3];
+  PSContact     *C   = S->contact;
+  const PetscInt dim = S->dim, N = PSShapeNodes(S->run.shape), nz = dim == 3 ? N : 1, fs = C->fs, nf = C->nfield;
+  PetscInt       p, a, b, c, d, e, lo[3], hi[3], i, j, k, n[3];
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(PS_EV_ContactP2G, 0, 0, 0, 0));
@@ -422,7 +421,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
     const PetscInt  kf = MarkerField(C, f, p);
     const PetscReal m  = f->mass[p];
     PetscCheck(kf >= 0 && kf < nf, PETSC_COMM_SELF, PETSC_ERR_PLIB, "marker %lld of body %" PetscInt_FMT " has no velocity field", (long long)f->id[p], f->body[p]);
-    PSShapeSupport(sh, dim, N, gimp, n);
+    PSShapeSupport(sh, dim, N, PETSC_TRUE, n); /* the nodes that carry weight (shape.h) */
     for (c = 0; c < n[2]; c++)
       for (b = 0; b < n[1]; b++)
         for (a = 0; a < n[0]; a++) C->mk[nf * Lidx(ix, sh->i0[0] + a, sh->i0[1] + b, dim == 3 ? sh->i0[2] + c : 0) + kf] += sh->w[0][a] * sh->w[1][b] * (dim == 3 ? sh->w[2][c] : 1.0) * m;
@@ -466,7 +465,7 @@ PetscErrorCode PSContactP2G(PSSolver *S, PSFields *f, const PSIndex *ix)
        gradient would tilt every normal towards +r: a flat interface across
        the axis pushed its bodies sideways and lost 12% of a trap's energy) */
     mg = S->axi ? m / (2.0 * PETSC_PI * f->x[2 * p]) : m;
-    PSShapeSupport(sh, dim, N, gimp, n);
+    PSShapeSupport(sh, dim, N, PETSC_TRUE, n);
     for (c = 0; c < n[2]; c++)
       for (b = 0; b < n[1]; b++)
         for (a = 0; a < n[0]; a++) {
@@ -621,7 +620,6 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
   const PetscInt  dim = S->dim, N = PSShapeNodes(S->run.shape), fs = C->fs;
   const PetscInt  dof = PSGridDof(S), fo = dof - dim, hdof = PSReprojectDof(S), ho = hdof - dim;
   const PetscReal apic = S->run.pic_fraction;
-  const PetscBool gimp = S->run.shape == PS_SHAPE_GIMP ? PETSC_TRUE : PETSC_FALSE;
   PetscInt        p, a, b, c, d, n[3];
 
   PetscFunctionBeginUser;
@@ -636,7 +634,7 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
       vs[d] = v[d];
       v[d]  = C->vold[p * dim + d];
     }
-    PSShapeSupport(sh, dim, N, gimp, n);
+    PSShapeSupport(sh, dim, N, PETSC_TRUE, n);
     for (c = 0; c < n[2]; c++)
       for (b = 0; b < n[1]; b++)
         for (a = 0; a < n[0]; a++) {
@@ -719,12 +717,11 @@ PetscErrorCode PSContactG2P(PSSolver *S, PSFields *f, const PSIndex *ix, PetscRe
    the single field elsewhere, into S->Lp */
 PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
 {
-  PSContact      *C   = S->contact;
-  const PetscInt  dim = S->dim, nf = C->nfield, fs = C->fs, N = PSShapeNodes(S->run.shape);
-  const PetscBool gimp = S->run.shape == PS_SHAPE_GIMP ? PETSC_TRUE : PETSC_FALSE;
-  const PetscInt  hdof = PSReprojectDof(S), ho = hdof - dim;
-  PetscInt        p, a, b, c, k, d, e, lo[3], hi[3];
-  PetscReal       m[16], gm[16][3], v[16][3], V[16], al[16];
+  PSContact     *C   = S->contact;
+  const PetscInt dim = S->dim, nf = C->nfield, fs = C->fs, N = PSShapeNodes(S->run.shape);
+  const PetscInt hdof = PSReprojectDof(S), ho = hdof - dim;
+  PetscInt       p, a, b, c, k, d, e, lo[3], hi[3];
+  PetscReal      m[16], gm[16][3], v[16][3], V[16], al[16];
 
   PetscFunctionBeginUser;
   PetscCall(PSHaloReduce(C->sfh, C->h));
@@ -764,7 +761,7 @@ PetscErrorCode PSContactReproject(PSSolver *S, PSFields *f, const PSIndex *ix)
     const PetscInt k  = MarkerField(C, f, p);
     PetscReal      L[3][3] = {{0}};
     PetscInt       n[3];
-    PSShapeSupport(sh, dim, N, gimp, n);
+    PSShapeSupport(sh, dim, N, PETSC_TRUE, n);
     for (c = 0; c < n[2]; c++)
       for (b = 0; b < n[1]; b++)
         for (a = 0; a < n[0]; a++) {

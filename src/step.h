@@ -104,21 +104,6 @@ static inline void PSMarkerWeights(const PSSolver *S, PetscInt p, PetscInt dim, 
   PSShapeWeights(S->run.shape, dim, S->ih, &S->at[p], sh);
 }
 
-/* the nodes per direction that carry weight, n[d] <= N.  GIMP's support
-   (vs) is 2 nodes along a direction in which the particle lies inside one
-   cell (g = 0 in PSShapeWeights: the third node's weight and derivative are
-   exactly 0) and 3 where it straddles a node.  The MUSL passes
-   (transfer_musl.c, vs a constant of each compiled kernel) and contact.c's
-   sums skip the third node where it is zero, which changes no bit of any
-   sum and cuts GIMP's 27 nodes to 8 for a marker inside its cell
-   (B-splines' third node is zero only at f = 1/2 exactly: they keep 3,
-   without the test) */
-static inline __attribute__((always_inline)) void PSShapeSupport(const PSShape *sh, const PetscInt dim, const PetscInt N, const PetscBool vs, PetscInt n[3])
-{
-  PetscInt d;
-  for (d = 0; d < 3; d++) n[d] = d < dim ? ((vs && sh->w[d][2] == 0.0 && sh->dw[d][2] == 0.0) ? 2 : N) : 1;
-}
-
 /* Cauchy stress minus q (the force's stress) as a 3x3 */
 static inline void ForceStress(PetscInt dim, const PetscReal *sg, PetscReal q, PetscReal s[3][3])
 {

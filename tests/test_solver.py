@@ -163,7 +163,7 @@ def test_3d_elastic_wave_and_conservation_under_each_transfer(tmpdir_mpi):
 def test_gimp_support_keeps_momentum_and_rigid_translation_strain_free(dim, tmpdir_mpi):
     """MUSL/GIMP visits per marker and direction only the nodes that carry
     weight (2 while the particle lies inside one cell, 3 where it straddles a
-    node; transfer_musl.c SupportNodes).  Two blocks of 2^dim markers per cell
+    node; PSShapeSupport in src/shape.h).  Two blocks of 2^dim markers per cell
     (l = h/4: half the markers' positions straddle) fly obliquely across
     several cells, one translating rigidly, the other striking a third at
     rest: every node that carries weight must be visited in P2G, G2P and the
@@ -185,15 +185,15 @@ def test_gimp_support_keeps_momentum_and_rigid_translation_strain_free(dim, tmpd
     bodies = [Body("rigid", box=box([2, 9, 8], [6, 13, 12]), material="el", velocity=vel, subdivision=2),
               Body("flyer", box=box([2, 2, 2], [6, 6, 6]), material="el", velocity=[u, 0.6 * u, 0.35 * u][:dim], subdivision=2),
               Body("target", box=box([7, 2, 2], [10, 7, 7]), material="el", subdivision=2)]
-    steps = 3.0 * h / u                                  # the blocks travel 3 cells
-    run = Run(t_end=steps, cfl=0.5, shape="gimp", transfer="musl", history_interval=5, output_interval=steps, mass_threshold=0.0,
+    t_end = 3.0 * h / u                                  # the blocks travel 3 cells
+    run = Run(t_end=t_end, cfl=0.5, shape="gimp", transfer="musl", history_interval=5, output_interval=t_end, mass_threshold=0.0,
               artificial_viscosity={"c_linear": 0.0, "c_quadratic": 0.0})
     scene = Scene(dim, Grid(lo, hi, [n] * dim), [el], bodies, run, contact=Contact(type="bonded")).validate()
     m = run_scene(scene, tmpdir_mpi)
     H = history(tmpdir_mpi)
     p0 = rho * (4 * h) ** dim * u                        # one block's momentum, the scale of the round-off
     assert np.all(H["mass"] == H["mass"][0])
-    for k, comp in enumerate("xyz"[:dim]):
+    for comp in "xyz"[:dim]:
         assert np.max(np.abs(H["p" + comp] - H["p" + comp][0])) < 1e-12 * p0, (comp, H["p" + comp])
     f = gather(m, ["body", "stress", "v"])
     rigid = f["body"][:, 0] == 0
