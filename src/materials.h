@@ -68,6 +68,34 @@ static inline void PSTurn(const PetscReal Q[3][3], PetscBool transpose, const Pe
     }
 }
 
+/* Symmetric tensors inside the isotropic kernels (update.c, update4.c) are
+   6 components in the 3D storage order xx,yy,zz,yz,xz,xy: a frame change of
+   a symmetric X computes only the 6 distinct components of Y (45 products,
+   not 54), and a contraction A:B weighs the shear pairs twice.  Both kernels
+   spell these the same way, so their results stay bitwise equal. */
+static const PetscInt PS_SYM[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}};
+static const PetscInt PS_SYM_I[6] = {0, 1, 2, 1, 0, 0}, PS_SYM_J[6] = {0, 1, 2, 2, 2, 1};
+
+/* Y = Q X Q^T, or Q^T X Q when transpose, for symmetric X and Y */
+static inline void PSTurnSym(const PetscReal Q[3][3], PetscBool transpose, const PetscReal X[6], PetscReal Y[6])
+{
+  PetscReal T[3][3];
+  PetscInt  a, k, j;
+  for (k = 0; k < 3; k++) /* T = X Q, or X Q^T */
+    for (j = 0; j < 3; j++) T[k][j] = X[PS_SYM[k][0]] * (transpose ? Q[0][j] : Q[j][0]) + X[PS_SYM[k][1]] * (transpose ? Q[1][j] : Q[j][1]) + X[PS_SYM[k][2]] * (transpose ? Q[2][j] : Q[j][2]);
+  for (a = 0; a < 6; a++) { /* Y = Q^T T, or Q T */
+    const PetscInt i = PS_SYM_I[a];
+    j                = PS_SYM_J[a];
+    Y[a]             = (transpose ? Q[0][i] : Q[i][0]) * T[0][j] + (transpose ? Q[1][i] : Q[i][1]) * T[1][j] + (transpose ? Q[2][i] : Q[i][2]) * T[2][j];
+  }
+}
+
+/* A : B of two symmetric tensors */
+static inline PetscReal PSSymDot(const PetscReal A[6], const PetscReal B[6])
+{
+  return (A[0] * B[0] + A[1] * B[1] + A[2] * B[2]) + 2.0 * (A[3] * B[3] + A[4] * B[4] + A[5] * B[5]);
+}
+
 /* symmetric 3x3 -> stored components (3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy) */
 static inline void PSStressPack(const PetscInt dim, const PetscReal S[3][3], PetscReal *v)
 {

@@ -30,13 +30,14 @@ static inline void AffineL(PetscInt dim, const PetscReal *C, PetscReal L[9])
     for (e = 0; e < 3; e++) L[3 * d + e] = (d < dim && e < dim) ? C[d * dim + e] : 0.0;
 }
 
-/* pointers to marker p's state for the constitutive kernels */
+/* pointers to marker p's state for the constitutive kernels (every field
+   set: this runs once per marker per step) */
 static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p, PSMarkerState *st)
 {
-  const PetscInt dim = S->dim, ns = PSStressComponents(dim);
-  memset(st, 0, sizeof(*st));
+  const PetscInt dim = S->dim, ns = dim == 3 ? 6 : 4; /* PSStressComponents */
   st->F     = &f->F[p * dim * dim];
   st->V0    = f->V0[p];
+  st->Ftt   = 0.0;
   if (S->axi) {
     /* the hoop stretch from what the marker carries: V = det(F_rz) F_tt V0
        (F block diagonal in r-z and theta) */
@@ -52,6 +53,9 @@ static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p,
   st->eps_p = f->eps_p ? &f->eps_p[p] : NULL;
   st->T     = f->T ? &f->T[p] : NULL;
   st->D     = f->D ? &f->D[p * S->scene->ndamage] : NULL;
+  st->axes0 = NULL;
+  st->axes  = NULL;
+  st->smat  = NULL;
   if (f->axes) {
     /* a ply's axes at t = 0 from its body and ply (identity outside laminates) */
     static const PetscReal I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -105,20 +109,21 @@ PetscErrorCode PSStressUpdate(PSSolver *S, PSFields *fp, PetscReal dt)
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
   for (p = 0; p < f.n;) {
     const PSMaterial *M = &S->mat[f.mat[p]];
-    PetscReal         L[4][3][3], J[4], cs[4];
-    PSMarkerState     st[4];
-    PetscInt          k, nb = 1;
+    PetscReal         Lc[4][3][3], J[4], cs[4];
+    const PetscReal(*L)[3][3];
+    PSMarkerState st[4];
+    PetscInt      k, nb = 1;
 
     /* four 3D markers of one material in a row go through the 4-lane kernel */
     if (dim == 3 && S->run.lanes == 4 && M->update4_fn && p + 4 <= f.n && f.mat[p + 1] == f.mat[p] && f.mat[p + 2] == f.mat[p] && f.mat[p + 3] == f.mat[p]) nb = 4;
-    for (k = 0; k < nb; k++) {
-      /* L_p: the MUSL gradient the transfer left in S->Lp (F-bar: averaged
-         there), or APIC's C_p */
-      if (f.C && !S->run.fbar) AffineL(dim, &f.C[(p + k) * dim * dim], &L[k][0][0]);
-      else PetscCall(PetscArraycpy(&L[k][0][0], &S->Lp[9 * (p + k)], 9));
-      MarkerState(S, &f, p + k, &st[k]);
-    }
-    if (nb == 4) PetscCall(M->update4_fn(M, (const PetscReal(*)[3][3])L, dt, hm, S->run.c_linear, S->run.c_quadratic, st, J, cs));
+    /* L_p: the MUSL gradient the transfer left in S->Lp (F-bar: averaged
+       there), read in place; or APIC's C_p */
+    if (f.C && !S->run.fbar) {
+      for (k = 0; k < nb; k++) AffineL(dim, &f.C[(p + k) * dim * dim], &Lc[k][0][0]);
+      L = (const PetscReal(*)[3][3])Lc;
+    } else L = (const PetscReal(*)[3][3])&S->Lp[9 * p];
+    for (k = 0; k < nb; k++) MarkerState(S, &f, p + k, &st[k]);
+    if (nb == 4) PetscCall(M->update4_fn(M, L, dt, hm, S->run.c_linear, S->run.c_quadratic, st, J, cs));
     else PetscCall(M->update_fn(M, dim, L[0], dt, hm, S->run.c_linear, S->run.c_quadratic, &st[0], &J[0], &cs[0]));
     for (k = 0; k < nb; k++, p++) {
       PetscReal v2 = 0.0;

@@ -17,20 +17,27 @@
 #include <math.h>
 #include "../materials.h"
 
-/* symmetric 3x3 <-> stored components (3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy) */
-static inline void Unpack(const PetscInt dim, const PetscReal *v, PetscReal S[3][3])
+/* stored components (3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy) <-> the kernel's 6 (materials.h) */
+static inline void Unpack(const PetscInt dim, const PetscReal *v, PetscReal S[6])
 {
-  S[0][0] = v[0];
-  S[1][1] = v[1];
-  S[2][2] = v[2];
+  S[0] = v[0];
+  S[1] = v[1];
+  S[2] = v[2];
+  S[3] = dim == 3 ? v[3] : 0.0;
+  S[4] = dim == 3 ? v[4] : 0.0;
+  S[5] = dim == 3 ? v[5] : v[3];
+}
+
+static inline void Pack(const PetscInt dim, const PetscReal S[6], PetscReal *v)
+{
+  v[0] = S[0];
+  v[1] = S[1];
+  v[2] = S[2];
   if (dim == 3) {
-    S[1][2] = S[2][1] = v[3];
-    S[0][2] = S[2][0] = v[4];
-    S[0][1] = S[1][0] = v[5];
-  } else {
-    S[0][1] = S[1][0] = v[3];
-    S[0][2] = S[2][0] = S[1][2] = S[2][1] = 0.0;
-  }
+    v[3] = S[3];
+    v[4] = S[4];
+    v[5] = S[5];
+  } else v[3] = S[5];
 }
 
 /* R of F = R U: X <- (X + X^-T)/2 (Higham 1986).  The iteration converges
@@ -97,10 +104,10 @@ PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e,
 /* the kernel's body, inlined with a constant dim (a 2D and a 3D kernel) */
 static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMaterial *M, const PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *s, PetscReal *Jout, PetscReal *cout)
 {
-  PetscReal Fn[3][3], R[3][3], D[3][3], Dt[3][3], S[3][3];
+  PetscReal Fn[3][3], R[3][3], D[3][3], Dp[6], Dt[6], S[6];
   PetscReal J, rho, irho, trD, A, B, c2, q, wdev = 0.0, p0 = *s->p, p1, e1;
   PetscBool failed = (s->D && *s->D >= 1.0) ? PETSC_TRUE : PETSC_FALSE;
-  PetscInt  i, j, k;
+  PetscInt  a;
 
   PetscFunctionBeginUser;
   /* 1. deformation gradient, volume, rate of deformation */
@@ -109,30 +116,26 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
   if (J <= 0.0) PetscFunctionReturn(PETSC_SUCCESS);
   rho  = M->rho0 / J;
   irho = J / M->rho0; /* 1/rho without a second division */
-  for (i = 0; i < 3; i++) D[i][i] -= trD / 3.0; /* D' */
+  for (a = 0; a < 6; a++) Dp[a] = D[PS_SYM_I[a]][PS_SYM_J[a]];
+  for (a = 0; a < 3; a++) Dp[a] -= trD / 3.0; /* D' */
 
   /* 2-3. unrotated deviator with J2 return */
   PSPolarRotation(Fn, R);
   Unpack(dim, s->sdev, S);
   if (M->G > 0.0 && !failed) {
-    PetscReal seq2 = 0.0, Dd = 0.0, S0[3][3];
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) S0[i][j] = S[i][j];
-    PSTurn(R, PETSC_TRUE, D, Dt); /* D~' = R^T D' R */
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) {
-        S[i][j] += 2.0 * M->G * dt * Dt[i][j];
-        seq2 += S[i][j] * S[i][j];
-        Dd += Dt[i][j] * Dt[i][j];
-      }
+    PetscReal seq2, Dd2, S0[6], Sm[6];
+    for (a = 0; a < 6; a++) S0[a] = S[a];
+    PSTurnSym(R, PETSC_TRUE, Dp, Dt); /* D~' = R^T D' R */
+    for (a = 0; a < 6; a++) S[a] += 2.0 * M->G * dt * Dt[a];
+    seq2 = PSSymDot(S, S);
+    Dd2  = PSSymDot(Dt, Dt);
     if (M->strength_fn) {
-      const PetscReal seq = PetscSqrtReal(1.5 * seq2), eps_dot = PetscSqrtReal(2.0 / 3.0 * Dd);
+      const PetscReal seq = PetscSqrtReal(1.5 * seq2), eps_dot = PetscSqrtReal(2.0 / 3.0 * Dd2);
       PetscReal       Y;
       PetscCall(M->strength_fn(M, s->eps_p ? *s->eps_p : 0.0, eps_dot, s->T ? *s->T : M->T_room, &Y));
       if (seq > Y) {
         const PetscReal dep = (seq - Y) / (3.0 * M->G);
-        for (i = 0; i < 3; i++)
-          for (j = 0; j < 3; j++) S[i][j] *= Y / seq;
+        for (a = 0; a < 6; a++) S[a] *= Y / seq;
         if (s->eps_p) *s->eps_p += dep;
         if (s->T && M->cv > 0.0) *s->T += M->chi * Y * dep / (rho * M->cv);
         if (s->D && M->failure_fn) {
@@ -145,21 +148,15 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
     }
     /* failing in this step: it ends with no deviator */
     if (failed)
-      for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) S[i][j] = 0.0;
+      for (a = 0; a < 6; a++) S[a] = 0.0;
     /* deviatoric work with the mid-step stress (trapezoidal, like the pressure
-       work; (S0 + 0)/2 in the step a marker fails); a partial sum per row
-       keeps the additions independent */
-    {
-      PetscReal w[3] = {0, 0, 0};
-      for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) w[i] += (S0[i][j] + S[i][j]) * Dt[i][j];
-      wdev = 0.5 * (w[0] + w[1] + w[2]);
-    }
+       work; (S0 + 0)/2 in the step a marker fails) */
+    for (a = 0; a < 6; a++) Sm[a] = S0[a] + S[a];
+    wdev = 0.5 * PSSymDot(Sm, Dt);
   }
   /* a marker failed before this step skipped the block: its stored deviator
      is 0 (zeroed in the step it failed) and wdev stays 0 */
-  PSStressPack(dim, S, s->sdev);
+  Pack(dim, S, s->sdev);
 
   /* 4-5. pressure, viscosity, energy */
   PetscCall(M->eos_fn(M, J, p0, trD * dt, &A, &B, &c2));
@@ -170,9 +167,9 @@ static inline __attribute__((always_inline)) PetscErrorCode Update(const PSMater
   *s->q = q;
 
   /* 6. Cauchy stress sigma = R s~ R^T - p I */
-  PSTurn(R, PETSC_FALSE, S, Dt);
-  for (i = 0; i < 3; i++) Dt[i][i] -= p1;
-  PSStressPack(dim, Dt, s->sig);
+  PSTurnSym(R, PETSC_FALSE, S, Dt);
+  for (a = 0; a < 3; a++) Dt[a] -= p1;
+  Pack(dim, Dt, s->sig);
   *cout = PetscSqrtReal(c2 + (4.0 / 3.0) * M->G * irho);
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -34,21 +34,24 @@ static inline PetscBool Any4(PSm4 m)
   return (m[0] | m[1] | m[2] | m[3]) ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* Y = Q X Q^T, or Q^T X Q when transpose (PSTurn, lane-wise) */
-static inline void Turn4(const PSv4 Q[3][3], PetscBool transpose, const PSv4 X[3][3], PSv4 Y[3][3])
+/* Y = Q X Q^T, or Q^T X Q when transpose, X and Y symmetric (PSTurnSym, lane-wise) */
+static inline void TurnSym4(const PSv4 Q[3][3], PetscBool transpose, const PSv4 X[6], PSv4 Y[6])
 {
   PSv4     T[3][3];
-  PetscInt i, j, k;
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      T[i][j] = (PSv4){0, 0, 0, 0};
-      for (k = 0; k < 3; k++) T[i][j] += X[i][k] * (transpose ? Q[k][j] : Q[j][k]);
-    }
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      Y[i][j] = (PSv4){0, 0, 0, 0};
-      for (k = 0; k < 3; k++) Y[i][j] += (transpose ? Q[k][i] : Q[i][k]) * T[k][j];
-    }
+  PetscInt a, k, j;
+  for (k = 0; k < 3; k++)
+    for (j = 0; j < 3; j++) T[k][j] = X[PS_SYM[k][0]] * (transpose ? Q[0][j] : Q[j][0]) + X[PS_SYM[k][1]] * (transpose ? Q[1][j] : Q[j][1]) + X[PS_SYM[k][2]] * (transpose ? Q[2][j] : Q[j][2]);
+  for (a = 0; a < 6; a++) {
+    const PetscInt i = PS_SYM_I[a];
+    j                = PS_SYM_J[a];
+    Y[a]             = (transpose ? Q[0][i] : Q[i][0]) * T[0][j] + (transpose ? Q[1][i] : Q[i][1]) * T[1][j] + (transpose ? Q[2][i] : Q[i][2]) * T[2][j];
+  }
+}
+
+/* A : B (PSSymDot, lane-wise) */
+static inline PSv4 SymDot4(const PSv4 A[6], const PSv4 B[6])
+{
+  return (A[0] * B[0] + A[1] * B[1] + A[2] * B[2]) + 2.0 * (A[3] * B[3] + A[4] * B[4] + A[5] * B[5]);
 }
 
 /* R of F = R U (PSPolarRotation, lane-wise): a lane stops changing once its
@@ -86,24 +89,27 @@ static inline void Polar4(const PSv4 F[3][3], PSv4 R[3][3])
 
 PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState s[4], PetscReal Jout[4], PetscReal cout[4])
 {
-  PSv4     F[3][3], Fn[3][3], Lv[3][3], D[3][3], Dt[3][3], R[3][3], S[3][3], S0[3][3];
-  PSv4     J, rho, irho, trD, wdev = {0, 0, 0, 0};
-  PetscInt i, j, k, l;
+  PSv4     Fn[3][3], R[3][3], Dp[6], Dt[6], S[6];
+  PSv4     J, rho, irho, trD, wdev = {0, 0, 0, 0}, p1v, c2v;
+  PetscInt i, j, k, l, a;
 
   PetscFunctionBeginUser;
   /* 1. deformation gradient, volume, rate of deformation (PSKinematics) */
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      F[i][j]  = (PSv4){s[0].F[3 * i + j], s[1].F[3 * i + j], s[2].F[3 * i + j], s[3].F[3 * i + j]};
-      Lv[i][j] = (PSv4){L[0][i][j], L[1][i][j], L[2][i][j], L[3][i][j]};
-    }
-  for (i = 0; i < 3; i++)
-    for (j = 0; j < 3; j++) {
-      Fn[i][j] = F[i][j];
-      for (k = 0; k < 3; k++) Fn[i][j] += dt * Lv[i][k] * F[k][j];
-      D[i][j] = 0.5 * (Lv[i][j] + Lv[j][i]);
-    }
-  trD = D[0][0] + D[1][1] + D[2][2];
+  {
+    PSv4 F[3][3], Lv[3][3];
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) {
+        F[i][j]  = (PSv4){s[0].F[3 * i + j], s[1].F[3 * i + j], s[2].F[3 * i + j], s[3].F[3 * i + j]};
+        Lv[i][j] = (PSv4){L[0][i][j], L[1][i][j], L[2][i][j], L[3][i][j]};
+      }
+    for (i = 0; i < 3; i++)
+      for (j = 0; j < 3; j++) {
+        Fn[i][j] = F[i][j];
+        for (k = 0; k < 3; k++) Fn[i][j] += dt * Lv[i][k] * F[k][j];
+      }
+    for (a = 0; a < 6; a++) Dp[a] = 0.5 * (Lv[PS_SYM_I[a]][PS_SYM_J[a]] + Lv[PS_SYM_J[a]][PS_SYM_I[a]]);
+  }
+  trD = Dp[0] + Dp[1] + Dp[2];
   J   = Fn[0][0] * (Fn[1][1] * Fn[2][2] - Fn[1][2] * Fn[2][1]) - Fn[0][1] * (Fn[1][0] * Fn[2][2] - Fn[1][2] * Fn[2][0]) + Fn[0][2] * (Fn[1][0] * Fn[2][1] - Fn[1][1] * Fn[2][0]);
   if (Any4((PSm4)(J <= 0.0))) { /* the scalar kernel names the marker */
     for (l = 0; l < 4; l++) PetscCall(PSMarkerUpdate(M, 3, L[l], dt, h, c_linear, c_quadratic, &s[l], &Jout[l], &cout[l]));
@@ -117,30 +123,22 @@ PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], 
   }
   rho  = M->rho0 / J;
   irho = J / M->rho0;
-  for (i = 0; i < 3; i++) D[i][i] -= trD / 3.0; /* D' */
+  for (a = 0; a < 3; a++) Dp[a] -= trD / 3.0; /* D' */
 
   /* 2-3. unrotated deviator with J2 return */
   Polar4(Fn, R);
-  {
-    const PetscInt u[3][3] = {{0, 5, 4}, {5, 1, 3}, {4, 3, 2}}; /* xx,yy,zz,yz,xz,xy */
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) S[i][j] = (PSv4){s[0].sdev[u[i][j]], s[1].sdev[u[i][j]], s[2].sdev[u[i][j]], s[3].sdev[u[i][j]]};
-  }
+  for (a = 0; a < 6; a++) S[a] = (PSv4){s[0].sdev[a], s[1].sdev[a], s[2].sdev[a], s[3].sdev[a]};
   if (M->G > 0.0) {
-    PSv4 seq2 = {0, 0, 0, 0}, Dd = {0, 0, 0, 0};
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) S0[i][j] = S[i][j];
-    Turn4(R, PETSC_TRUE, D, Dt); /* D~' = R^T D' R */
-    for (i = 0; i < 3; i++)
-      for (j = 0; j < 3; j++) {
-        S[i][j] += 2.0 * M->G * dt * Dt[i][j];
-        seq2 += S[i][j] * S[i][j];
-        Dd += Dt[i][j] * Dt[i][j];
-      }
+    PSv4 S0[6], seq2, Dd2;
+    for (a = 0; a < 6; a++) S0[a] = S[a];
+    TurnSym4(R, PETSC_TRUE, Dp, Dt); /* D~' = R^T D' R */
+    for (a = 0; a < 6; a++) S[a] += 2.0 * M->G * dt * Dt[a];
+    seq2 = SymDot4(S, S);
+    Dd2  = SymDot4(Dt, Dt);
     if (M->strength_fn) {
       PSv4 scale = {1, 1, 1, 1};
       for (l = 0; l < 4; l++) {
-        const PetscReal seq = PetscSqrtReal(1.5 * seq2[l]), eps_dot = PetscSqrtReal(2.0 / 3.0 * Dd[l]);
+        const PetscReal seq = PetscSqrtReal(1.5 * seq2[l]), eps_dot = PetscSqrtReal(2.0 / 3.0 * Dd2[l]);
         PetscReal       Y;
         PetscCall(M->strength_fn(M, s[l].eps_p ? *s[l].eps_p : 0.0, eps_dot, s[l].T ? *s[l].T : M->T_room, &Y));
         if (seq > Y) {
@@ -150,53 +148,57 @@ PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], 
           if (s[l].T && M->cv > 0.0) *s[l].T += M->chi * Y * dep / (rho[l] * M->cv);
         }
       }
-      for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) S[i][j] *= scale; /* x 1 exactly where elastic */
+      for (a = 0; a < 6; a++) S[a] *= scale; /* x 1 exactly where elastic */
     }
-    {
-      PSv4 w[3] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
-      for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) w[i] += (S0[i][j] + S[i][j]) * Dt[i][j];
-      wdev = 0.5 * (w[0] + w[1] + w[2]);
-    }
+    for (a = 0; a < 6; a++) S0[a] += S[a];
+    wdev = 0.5 * SymDot4(S0, Dt);
   }
-  for (l = 0; l < 4; l++) {
-    PetscReal *v = s[l].sdev;
-    v[0]         = S[0][0][l];
-    v[1]         = S[1][1][l];
-    v[2]         = S[2][2][l];
-    v[3]         = 0.5 * (S[1][2][l] + S[2][1][l]);
-    v[4]         = 0.5 * (S[0][2][l] + S[2][0][l]);
-    v[5]         = 0.5 * (S[0][1][l] + S[1][0][l]);
-  }
+  for (l = 0; l < 4; l++)
+    for (a = 0; a < 6; a++) s[l].sdev[a] = S[a][l];
 
-  /* 4-5. pressure, viscosity, energy, lane by lane (update.c) */
-  PSv4 p1v, c2v;
-  for (l = 0; l < 4; l++) {
-    const PetscReal p0 = *s[l].p;
-    PetscReal       A, B, c2, q, e1, p1;
-    PetscCall(M->eos_fn(M, J[l], p0, trD[l] * dt, &A, &B, &c2));
-    q = trD[l] < 0.0 ? PSViscosity(rho[l], h, trD[l], PetscSqrtReal(c2), c_linear, c_quadratic) : 0.0;
-    PSPressureEnergy(M, PETSC_FALSE, *s[l].e, dt * wdev[l] * irho[l], dt * trD[l] * irho[l], p0, A, B, q, &e1, &p1);
-    *s[l].e = e1;
-    *s[l].p = p1;
-    *s[l].q = q;
-    p1v[l]  = p1;
-    c2v[l]  = c2;
-  }
+  /* 4-5. pressure, viscosity, energy (update.c) */
+  if (M->eos_fn == PSEOSHydroelastic && !(M->spall < 0.0)) {
+    /* the elastic materials' EOS, PSViscosity and PSPressureEnergy (no
+       spall) in lanes: the same expressions, with no call that would spill
+       the lanes */
+    const PSv4 p0 = {*s[0].p, *s[1].p, *s[2].p, *s[3].p}, e0 = {*s[0].e, *s[1].e, *s[2].e, *s[3].e};
+    const PSv4 zero = {0, 0, 0, 0}, A = p0 - M->K * (trD * dt), B = zero;
+    const PSv4 c2 = M->K * J / M->rho0, w = dt * wdev * irho, av = dt * trD * irho;
+    const PSm4 comp = (PSm4)(trD < 0.0);
+    PSv4       q = zero, e1, p1;
+    if (Any4(comp)) {
+      const PSv4 c = {PetscSqrtReal(c2[0]), PetscSqrtReal(c2[1]), PetscSqrtReal(c2[2]), PetscSqrtReal(c2[3])};
+      q            = Select4(comp, rho * h * (c_quadratic * h * trD * trD + c_linear * c * Abs4(trD)), zero);
+    }
+    e1 = (e0 + w - av * (0.5 * p0 + 0.5 * A + q)) / (1.0 + 0.5 * av * B);
+    p1 = A + B * e1;
+    for (l = 0; l < 4; l++) {
+      *s[l].e = e1[l];
+      *s[l].p = p1[l];
+      *s[l].q = q[l];
+    }
+    p1v = p1;
+    c2v = c2;
+  } else
+    for (l = 0; l < 4; l++) { /* lane by lane */
+      const PetscReal p0 = *s[l].p;
+      PetscReal       A, B, c2, q, e1, p1;
+      PetscCall(M->eos_fn(M, J[l], p0, trD[l] * dt, &A, &B, &c2));
+      q = trD[l] < 0.0 ? PSViscosity(rho[l], h, trD[l], PetscSqrtReal(c2), c_linear, c_quadratic) : 0.0;
+      PSPressureEnergy(M, PETSC_FALSE, *s[l].e, dt * wdev[l] * irho[l], dt * trD[l] * irho[l], p0, A, B, q, &e1, &p1);
+      *s[l].e = e1;
+      *s[l].p = p1;
+      *s[l].q = q;
+      p1v[l]  = p1;
+      c2v[l]  = c2;
+    }
 
   /* 6. Cauchy stress sigma = R s~ R^T - p I */
-  Turn4(R, PETSC_FALSE, S, Dt);
-  for (i = 0; i < 3; i++) Dt[i][i] -= p1v;
+  TurnSym4(R, PETSC_FALSE, S, Dt);
+  for (a = 0; a < 3; a++) Dt[a] -= p1v;
   for (l = 0; l < 4; l++) {
-    PetscReal *v = s[l].sig;
-    v[0]         = Dt[0][0][l];
-    v[1]         = Dt[1][1][l];
-    v[2]         = Dt[2][2][l];
-    v[3]         = 0.5 * (Dt[1][2][l] + Dt[2][1][l]);
-    v[4]         = 0.5 * (Dt[0][2][l] + Dt[2][0][l]);
-    v[5]         = 0.5 * (Dt[0][1][l] + Dt[1][0][l]);
-    cout[l]      = PetscSqrtReal(c2v[l] + (4.0 / 3.0) * M->G * irho[l]);
+    for (a = 0; a < 6; a++) s[l].sig[a] = Dt[a][l];
+    cout[l] = PetscSqrtReal(c2v[l] + (4.0 / 3.0) * M->G * irho[l]);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
