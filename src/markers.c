@@ -21,11 +21,6 @@ static PetscInt BlockSize(const PSScene *scene, PetscInt bs)
   return bs == -1 ? dim : bs == -2 ? dim * dim : bs == -3 ? PSStressComponents(dim) : bs == -4 ? scene->ndamage : bs;
 }
 
-PetscInt PSStressComponents(PetscInt dim)
-{
-  return dim == 3 ? 6 : 4;
-}
-
 /* Every field a marker may carry, and when it is registered. */
 static PetscBool FieldNeeded(const PSScene *scene, const char *name)
 {

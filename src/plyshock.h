@@ -147,7 +147,13 @@ PETSC_EXTERN PetscErrorCode PSMarkersBytes(const PSScene *, DM sw, PetscInt *byt
 PETSC_EXTERN PetscErrorCode PSMarkersFieldList(const PSScene *, PetscInt *n, const char *names[], PetscInt bs[], PetscDataType types[]);
 #define PS_MAX_FIELDS 32
 PETSC_EXTERN PetscErrorCode PSCellOwnership(DM da, PetscInt cs[3], PetscInt ce[3]);
-PETSC_EXTERN PetscInt       PSStressComponents(PetscInt dim);
+/* stored stress components: 3D xx,yy,zz,yz,xz,xy; 2D xx,yy,zz,xy (inline: the
+   transfers' per-marker loops call it, and a call there spills every vector
+   register) */
+static inline PetscInt PSStressComponents(PetscInt dim)
+{
+  return dim == 3 ? 6 : 4;
+}
 
 /* output (io.c) */
 PETSC_EXTERN PetscErrorCode PSWriteMarkers(const PSScene *, DM sw, const char filename[], PetscReal time, PetscInt nattr, const char *const attr_names[], const char *const attr_values[], const char *const body_names[], const char *const material_names[]);

@@ -34,7 +34,7 @@ static inline void AffineL(PetscInt dim, const PetscReal *C, PetscReal L[9])
    set: this runs once per marker per step) */
 static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p, PSMarkerState *st)
 {
-  const PetscInt dim = S->dim, ns = dim == 3 ? 6 : 4; /* PSStressComponents */
+  const PetscInt dim = S->dim, ns = PSStressComponents(dim);
   st->F     = &f->F[p * dim * dim];
   st->V0    = f->V0[p];
   st->Ftt   = 0.0;
