@@ -6,8 +6,11 @@
   dependent 3x3 products per marker); four independent chains fill the FMA
   units.  Each lane performs the scalar kernel's operations in the same order,
   so a marker's result is bitwise the one PSMarkerUpdate gives (the tests
-  compare the two paths); the EOS, viscosity, energy and flow-stress steps are
-  done lane by lane with the scalar code's expressions.
+  compare the two paths).  Symmetric tensors are 6 components (materials.h).
+  The flow stress, and the EOS with viscosity and energy of materials with
+  an EOS model, go lane by lane through the scalar code's functions; the
+  elastic materials' (no EOS model: PSEOSHydroelastic) are written out in
+  lanes, since a call spills every lane.
 
   Used for isotropic materials without metal failure (registry.c); a batch in
   which any marker would reach J <= 0 is redone by the scalar kernel, which
