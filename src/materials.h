@@ -48,6 +48,7 @@ typedef struct PSMarkerState_ {
 
 PETSC_INTERN PetscErrorCode PSMarkerUpdate(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *, PetscReal *J, PetscReal *c);
 PETSC_INTERN PetscErrorCode PSMarkerUpdate4(const PSMaterial *, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState s[4], PetscReal J[4], PetscReal c[4]);
+PETSC_INTERN PetscErrorCode PSMarkerUpdate4Elastic(const PSMaterial *, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState s[4], PetscReal J[4], PetscReal c[4]);
 PETSC_INTERN PetscErrorCode PSMarkerUpdateOrthotropic(const PSMaterial *, PetscInt dim, const PetscReal L[3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState *, PetscReal *J, PetscReal *c);
 
 /* Y = Q X Q^T, or Q^T X Q when transpose: a tensor turned between frames

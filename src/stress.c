@@ -30,14 +30,13 @@ static inline void AffineL(PetscInt dim, const PetscReal *C, PetscReal L[9])
     for (e = 0; e < 3; e++) L[3 * d + e] = (d < dim && e < dim) ? C[d * dim + e] : 0.0;
 }
 
-/* pointers to marker p's state for the constitutive kernels (every field
-   set: this runs once per marker per step) */
+/* pointers to marker p's state for the constitutive kernels */
 static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p, PSMarkerState *st)
 {
   const PetscInt dim = S->dim, ns = PSStressComponents(dim);
+  memset(st, 0, sizeof(*st));
   st->F     = &f->F[p * dim * dim];
   st->V0    = f->V0[p];
-  st->Ftt   = 0.0;
   if (S->axi) {
     /* the hoop stretch from what the marker carries: V = det(F_rz) F_tt V0
        (F block diagonal in r-z and theta) */
@@ -53,9 +52,6 @@ static inline void MarkerState(const PSSolver *S, const PSFields *f, PetscInt p,
   st->eps_p = f->eps_p ? &f->eps_p[p] : NULL;
   st->T     = f->T ? &f->T[p] : NULL;
   st->D     = f->D ? &f->D[p * S->scene->ndamage] : NULL;
-  st->axes0 = NULL;
-  st->axes  = NULL;
-  st->smat  = NULL;
   if (f->axes) {
     /* a ply's axes at t = 0 from its body and ply (identity outside laminates) */
     static const PetscReal I9[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};

@@ -60,5 +60,7 @@ PetscErrorCode PSMaterialInit(PSMaterial *M, const char eos[], const char streng
   }
   M->update_fn  = M->aniso ? PSMarkerUpdateOrthotropic : PSMarkerUpdate;
   M->update4_fn = (M->aniso || M->failure_fn) ? NULL : PSMarkerUpdate4;
+  /* no EOS model and no spall: the 4-lane kernel with the pressure and energy in lanes */
+  if (M->update4_fn && M->eos_fn == PSEOSHydroelastic && !(M->spall < 0.0)) M->update4_fn = PSMarkerUpdate4Elastic;
   PetscFunctionReturn(PETSC_SUCCESS);
 }

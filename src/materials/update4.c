@@ -9,8 +9,9 @@
   compare the two paths).  Symmetric tensors are 6 components (materials.h).
   The flow stress, and the EOS with viscosity and energy of materials with
   an EOS model, go lane by lane through the scalar code's functions; the
-  elastic materials' (no EOS model: PSEOSHydroelastic) are written out in
-  lanes, since a call spills every lane.
+  elastic materials' (no EOS model: PSEOSHydroelastic, no spall) are written
+  out in lanes in a second compiled form, PSMarkerUpdate4Elastic, since a
+  call spills every lane.
 
   Used for isotropic materials without metal failure (registry.c); a batch in
   which any marker would reach J <= 0 is redone by the scalar kernel, which
@@ -90,7 +91,10 @@ static inline void Polar4(const PSv4 F[3][3], PSv4 R[3][3])
     for (j = 0; j < 3; j++) R[i][j] = X[i][j];
 }
 
-PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState s[4], PetscReal Jout[4], PetscReal cout[4])
+/* the kernel's body, compiled twice (registry.c picks one per material):
+   elastic, a constant, writes the hydroelastic EOS (no EOS model, no spall)
+   with the viscosity and energy out in lanes */
+static inline __attribute__((always_inline)) PetscErrorCode Update4(const PSMaterial *M, const PetscBool elastic, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState s[4], PetscReal Jout[4], PetscReal cout[4])
 {
   PSv4     Fn[3][3], R[3][3], Dp[6], Dt[6], S[6];
   PSv4     J, rho, irho, trD, wdev = {0, 0, 0, 0}, p1v, c2v;
@@ -160,10 +164,9 @@ PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], 
     for (a = 0; a < 6; a++) s[l].sdev[a] = S[a][l];
 
   /* 4-5. pressure, viscosity, energy (update.c) */
-  if (M->eos_fn == PSEOSHydroelastic && !(M->spall < 0.0)) {
-    /* the elastic materials' EOS, PSViscosity and PSPressureEnergy (no
-       spall) in lanes: the same expressions, with no call that would spill
-       the lanes */
+  if (elastic) {
+    /* PSEOSHydroelastic, PSViscosity and PSPressureEnergy (no spall) in
+       lanes: the same expressions, with no call that would spill the lanes */
     const PSv4 p0 = {*s[0].p, *s[1].p, *s[2].p, *s[3].p}, e0 = {*s[0].e, *s[1].e, *s[2].e, *s[3].e};
     const PSv4 zero = {0, 0, 0, 0}, A = p0 - M->K * (trD * dt), B = zero;
     const PSv4 c2 = M->K * J / M->rho0, w = dt * wdev * irho, av = dt * trD * irho;
@@ -204,4 +207,14 @@ PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], 
     cout[l] = PetscSqrtReal(c2v[l] + (4.0 / 3.0) * M->G * irho[l]);
   }
   PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSMarkerUpdate4(const PSMaterial *M, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState s[4], PetscReal J[4], PetscReal c[4])
+{
+  return Update4(M, PETSC_FALSE, L, dt, h, c_linear, c_quadratic, s, J, c);
+}
+
+PetscErrorCode PSMarkerUpdate4Elastic(const PSMaterial *M, const PetscReal L[4][3][3], PetscReal dt, PetscReal h, PetscReal c_linear, PetscReal c_quadratic, PSMarkerState s[4], PetscReal J[4], PetscReal c[4])
+{
+  return Update4(M, PETSC_TRUE, L, dt, h, c_linear, c_quadratic, s, J, c);
 }
