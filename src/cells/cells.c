@@ -118,6 +118,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PetscCalloc1(nn * S->dim, &C->Pn));
   PetscCall(PetscCalloc2(nn, &C->mcn, nn * S->dim, &C->vh));
   PetscCall(PetscCalloc1(C->ncl, &C->Mcell));
+  PetscCall(PetscMalloc1(C->ncl, &C->sole));
   CornersBuild(S, C, &ix, &C->K);
   {
     PetscInt nown = 1;
@@ -138,6 +139,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->Pn));
   PetscCall(PetscFree2((*C)->mcn, (*C)->vh));
   PetscCall(PetscFree((*C)->Mcell));
+  PetscCall(PetscFree((*C)->sole));
   PetscCall(PetscFree3((*C)->hs, (*C)->vo, (*C)->df));
   PetscCall(PetscSFDestroy(&(*C)->sfu));
   PetscCall(PetscSFDestroy(&(*C)->sfd));
@@ -180,8 +182,13 @@ PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
       for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) {
         const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
         PetscReal        Mc = 0.0;
-        for (m = 0; m < C->nmat; m++) Mc += u[m * C->ms + PS_CM];
+        PetscInt         sole = PS_CELL_EMPTY;
+        for (m = 0; m < C->nmat; m++) {
+          Mc += u[m * C->ms + PS_CM];
+          if (u[m * C->ms + PS_CM] > 0.0) sole = sole == PS_CELL_EMPTY ? m : PS_CELL_SEVERAL;
+        }
         C->Mcell[PSCellIdx(C, i, j, k)] = Mc;
+        C->sole[PSCellIdx(C, i, j, k)]  = (signed char)sole;
         if (Mc == 0.0) continue;
         /* corners: DMDA nodes i + PS_PAD + a, ... (those in the local node array;
            all of them but at the box's edge) */

@@ -80,6 +80,7 @@ typedef struct PSCells_ {
   PetscReal *Pn;                  /* scratch of the same size */
   PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
   PetscReal *Mcell;               /* per ghosted cell: its cell materials' mass M_c (kg), as PSCellsNodalMass last summed it */
+  signed char *sole;              /* per ghosted cell: its one cell material with mass (0..nmat-1), PS_CELL_SEVERAL or PS_CELL_EMPTY (the same sum) */
   PetscReal *vh;                  /* the nodal velocity that moves the cells' faces this step, dim per node */
   PetscReal *vo;                  /* the nodal velocity at t^n (PSCellsPredict), dim per node */
   PetscReal *df;                  /* the corrector's change of the cells' nodal force, dim per node */
@@ -104,6 +105,22 @@ typedef struct PSCells_ {
 static inline PetscInt PSCellsHalfSize(const PSCells *C)
 {
   return C->nmat * (1 + C->ns) + 1 + 12;
+}
+
+/* the cells' materials with mass: a cell holds one (nearly every cell), several, or none */
+#define PS_CELL_SEVERAL (-1)
+#define PS_CELL_EMPTY   (-2)
+
+/* the cell materials [m0, m1) a loop over ghosted cell ci's materials visits:
+   its one material with mass, or all (the others hold nothing: a material
+   without mass is zeroed where it loses it, remap.c and closure.c, so
+   skipping it changes no sum).  Valid from PSCellsNodalMass until the
+   cells' masses next change (the remap's sweeps, the fit) */
+static inline void PSCellsPresent(const PSCells *C, PetscInt ci, PetscInt *m0, PetscInt *m1)
+{
+  const PetscInt s = C->sole[ci];
+  *m0 = s >= 0 ? s : 0;
+  *m1 = s >= 0 ? s + 1 : (s == PS_CELL_EMPTY ? 0 : C->nmat);
 }
 
 /* index of ghosted cell (i, j, k) (global cell indices) */

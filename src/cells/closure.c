@@ -69,8 +69,12 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
-        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
-        for (m = 0; m < C->nmat; m++) {
+        const PetscInt   ci = PSCellIdx(C, i, j, k);
+        const PetscReal *u  = &C->u[C->dof * ci];
+        PetscInt         m0, m1;
+        PetscCall(PetscArrayzero(&C->ec[PS_EC * n * C->nmat], PS_EC * C->nmat));
+        PSCellsPresent(C, ci, &m0, &m1);
+        for (m = m0; m < m1; m++) {
           const PetscReal *blk = &u[m * C->ms];
           PetscReal       *ec  = &C->ec[PS_EC * (n * C->nmat + m)];
           if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
@@ -89,19 +93,21 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
    cell's volume change equals the work the closure's shares do
    (sum_k p_k dV_k with dV_k proportional to chi_k), so the nodal force and
    the materials' energies agree; at equilibrium it is the common pressure.
-   ec: the cell's cached EOS values (PSCellsEOSCache). */
-PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec)
+   ec: the cell's cached EOS values (PSCellsEOSCache); [m0, m1) the cell's
+   materials with mass (PSCellsPresent; ShareVolume's too, whose dVk and dVr
+   are set for those only). */
+PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec, PetscInt m0, PetscInt m1)
 {
   PetscReal sc = 0.0, sp = 0.0;
   PetscInt  m;
-  for (m = 0; m < C->nmat; m++) {
+  for (m = m0; m < m1; m++) {
     sc += ec[PS_EC * m + 2];
     sp += ec[PS_EC * m + 2] * ec[PS_EC * m];
   }
   return sc > 0.0 ? sp / sc : 0.0;
 }
 
-PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
+PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
 {
   const PSCells  *C  = S->cells;
   const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
@@ -111,10 +117,12 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const P
 
   PetscFunctionBeginUser;
   if (pr) *pr = 0.0;
-  for (m = 0; m < C->nmat; m++) {
-    const PetscReal *blk = &u[m * C->ms];
+  for (m = m0; m < m1; m++) {
     dVk[m] = chi[m] = p[m] = 0.0;
     if (dVr) dVr[m] = 0.0;
+  }
+  for (m = m0; m < m1; m++) {
+    const PetscReal *blk = &u[m * C->ms];
     if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
     chi[m] = ec[PS_EC * m + 2];
     p[m]   = ec[PS_EC * m];
@@ -138,16 +146,16 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const P
   /* (a material gives up at most half its volume in one step: a trace of gas
      against a stiff marker would otherwise be asked for more than it has; the
      markers' part takes the rest) */
-  for (m = 0; m < C->nmat; m++) dVk[m] = sumchi > 0.0 ? PetscMax(rest * chi[m] / (sumchi + chiM), -0.5 * u[m * C->ms + PS_CV]) : 0.0;
+  for (m = m0; m < m1; m++) dVk[m] = sumchi > 0.0 ? PetscMax(rest * chi[m] / (sumchi + chiM), -0.5 * u[m * C->ms + PS_CV]) : 0.0;
   /* 2. relaxation toward p* (p* = 0 with void) */
   hasvoid = V0 > 1e-12 * C->Vc ? PETSC_TRUE : PETSC_FALSE;
   if (!hasvoid) {
     if (n < 2) PetscFunctionReturn(PETSC_SUCCESS);
-    for (m = 0; m < C->nmat; m++)
+    for (m = m0; m < m1; m++)
       if (chi[m] > 0.0) pstar += chi[m] * (p[m] - dVk[m] / chi[m]);
     pstar /= sumchi;
   }
-  for (m = 0; m < C->nmat; m++) {
+  for (m = m0; m < m1; m++) {
     const PetscReal *blk = &u[m * C->ms];
     PetscReal        d;
     if (chi[m] <= 0.0) continue;
@@ -158,7 +166,7 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const P
   }
   /* void cannot go negative (without void the shifts sum to zero) */
   if (hasvoid && sumd > 0.0 && V0 < theta * sumd) theta = V0 / sumd;
-  for (m = 0; m < C->nmat; m++)
+  for (m = m0; m < m1; m++)
     if (chi[m] > 0.0) {
       const PetscReal r = theta * chi[m] * (p[m] - dVk[m] / chi[m] - pstar);
       dVk[m] += r;
@@ -240,62 +248,71 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
 {
   PSCells        *C   = S->cells;
   const PetscInt  dim = S->dim;
-  PetscInt        n, p, d, i, j, k, m, *mat, c;
+  PetscInt        n, p, d, i, j, k, m, *mat, c, nfit = 0;
   PetscReal      *x, *vol, *V0, *F, *dep = C->dep;
+  PetscBool       markers = PETSC_FALSE;
   PSIndex         ix;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscArrayzero(dep, 2 * C->ncl));
-  PetscCall(DMSwarmGetLocalSize(S->sw, &n));
-  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
-  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
-  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
-  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
-  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
-  for (p = 0; p < n; p++) {
-    const PetscReal a0 = dim == 3 ? PetscCbrtReal(V0[p]) : PetscSqrtReal(V0[p]);
-    PetscInt        c0[3] = {0, 0, 0};
-    PetscReal       w[3][2] = {{1, 0}, {1, 0}, {1, 0}};
-    /* per direction: the box's side a = a0 |F_dd| (it shortens along a
-       compression, so a body's boxes keep tiling it in uniaxial strain), the
-       two cells it can overlap and its share in each */
-    for (d = 0; d < dim; d++) {
-      const PetscReal a  = a0 * PetscAbsReal(F[p * dim * dim + d * dim + d]);
-      const PetscReal lo = (x[p * dim + d] - 0.5 * a - S->scene->lower[d]) * S->ih[d], hi = lo + a * S->ih[d];
-      const PetscReal f  = PetscFloorReal(lo);
-      c0[d]   = (PetscInt)f;
-      w[d][1] = hi > f + 1.0 ? (hi - (f + 1.0)) / (hi - lo) : 0.0;
-      w[d][0] = 1.0 - w[d][1];
-    }
-    for (c = 0; c < (1 << dim); c++) {
-      PetscInt  cc[3] = {0, 0, 0}, o;
-      PetscReal share = 1.0;
+  /* a scene without marker bodies: the markers' share stays 0 (set at
+     insertion), and where no cell needed fitting (nearly always: the remap
+     gives each cell its volume back) the state, its ghosts and the nodal
+     masses are the remap's; they are neither redone nor exchanged */
+  for (p = 0; p < S->scene->nbody; p++)
+    if (S->scene->bodies[p].cellmat < 0) markers = PETSC_TRUE;
+  if (markers || !fit) {
+    PetscCall(PetscArrayzero(dep, 2 * C->ncl));
+    PetscCall(DMSwarmGetLocalSize(S->sw, &n));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
+    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
+    for (p = 0; p < n; p++) {
+      const PetscReal a0 = dim == 3 ? PetscCbrtReal(V0[p]) : PetscSqrtReal(V0[p]);
+      PetscInt        c0[3] = {0, 0, 0};
+      PetscReal       w[3][2] = {{1, 0}, {1, 0}, {1, 0}};
+      /* per direction: the box's side a = a0 |F_dd| (it shortens along a
+         compression, so a body's boxes keep tiling it in uniaxial strain), the
+         two cells it can overlap and its share in each */
       for (d = 0; d < dim; d++) {
-        const PetscInt b = (c >> d) & 1;
-        share *= w[d][b];
-        /* clipped to the domain and the ghosted box (a box reaches one cell out) */
-        cc[d] = PetscMin(PetscMax(c0[d] + b, PetscMax(C->gs[d], 0)), PetscMin(C->gs[d] + C->gm[d], C->nc[d]) - 1);
+        const PetscReal a  = a0 * PetscAbsReal(F[p * dim * dim + d * dim + d]);
+        const PetscReal lo = (x[p * dim + d] - 0.5 * a - S->scene->lower[d]) * S->ih[d], hi = lo + a * S->ih[d];
+        const PetscReal f  = PetscFloorReal(lo);
+        c0[d]   = (PetscInt)f;
+        w[d][1] = hi > f + 1.0 ? (hi - (f + 1.0)) / (hi - lo) : 0.0;
+        w[d][0] = 1.0 - w[d][1];
       }
-      if (share <= 0.0) continue;
-      o = PSCellIdx(C, cc[0], cc[1], cc[2]);
-      dep[2 * o] += share * vol[p] / C->Vc;
-      dep[2 * o + 1] += share * vol[p] / C->Kmat[mat[p]];
+      for (c = 0; c < (1 << dim); c++) {
+        PetscInt  cc[3] = {0, 0, 0}, o;
+        PetscReal share = 1.0;
+        for (d = 0; d < dim; d++) {
+          const PetscInt b = (c >> d) & 1;
+          share *= w[d][b];
+          /* clipped to the domain and the ghosted box (a box reaches one cell out) */
+          cc[d] = PetscMin(PetscMax(c0[d] + b, PetscMax(C->gs[d], 0)), PetscMin(C->gs[d] + C->gm[d], C->nc[d]) - 1);
+        }
+        if (share <= 0.0) continue;
+        o = PSCellIdx(C, cc[0], cc[1], cc[2]);
+        dep[2 * o] += share * vol[p] / C->Vc;
+        dep[2 * o + 1] += share * vol[p] / C->Kmat[mat[p]];
+      }
     }
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
+    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+    PetscCall(PSHaloReduce(C->sfd, dep));
+    for (k = C->cs[2]; k < C->ce[2]; k++)
+      for (j = C->cs[1]; j < C->ce[1]; j++)
+        for (i = C->cs[0]; i < C->ce[0]; i++) {
+          const PetscInt o  = PSCellIdx(C, i, j, k);
+          PetscReal     *x_ = &C->u[C->dof * o + C->nmat * C->ms];
+          x_[PS_CX_AM] = dep[2 * o];
+          x_[PS_CX_CM] = dep[2 * o + 1];
+        }
   }
-  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
-  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
-  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
-  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
-  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
-  PetscCall(PSHaloReduce(C->sfd, dep));
-  for (k = C->cs[2]; k < C->ce[2]; k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++) {
-        const PetscInt o  = PSCellIdx(C, i, j, k);
-        PetscReal     *x_ = &C->u[C->dof * o + C->nmat * C->ms];
-        x_[PS_CX_AM] = dep[2 * o];
-        x_[PS_CX_CM] = dep[2 * o + 1];
-      }
   /* dep now takes each cell's discarded mass (kg), for its nodes' momentum */
   PetscCall(PetscArrayzero(dep, 2 * C->ncl));
   PetscCall(PSGridIndex(S->da, &ix));
@@ -311,6 +328,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           if (u[m * C->ms + PS_CM] > 0.0) Vm += u[m * C->ms + PS_CV];
         over = Vm - room;
         if (over <= 1e-12 * C->Vc) continue; /* room enough (nearly every cell): no EOS needed */
+        nfit++;
         for (m = 0; m < C->nmat; m++) {
           chi[m] = 0.0;
           if (u[m * C->ms + PS_CM] <= 0.0) continue;
@@ -372,6 +390,11 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           blk[PS_CV] = V1;
         }
       }
+  if (!markers && fit) {
+    PetscBool any = nfit > 0 ? PETSC_TRUE : PETSC_FALSE;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)S->da)));
+    if (!any) PetscFunctionReturn(PETSC_SUCCESS);
+  }
   PetscCall(PSCellsExchange(C));
   PetscCall(PSCellsNodalMass(S, &ix));
   if (fit) PetscCall(DiscardMomentum(S, &ix));

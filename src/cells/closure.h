@@ -10,7 +10,7 @@
 
 #define PS_EC 3 /* cached per cell and material: p (Pa), c (m/s), compliance V/(rho c^2) (m^3/Pa) */
 PETSC_INTERN PetscErrorCode PSCellsEOSCache(PSSolver *);
-PETSC_INTERN PetscReal      PSCellsForcePressure(const PSCells *, const PetscReal *ec);
-PETSC_INTERN PetscErrorCode PSCellsShareVolume(const PSSolver *, const PetscReal *u, const PetscReal *ec, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr);
+PETSC_INTERN PetscReal      PSCellsForcePressure(const PSCells *, const PetscReal *ec, PetscInt m0, PetscInt m1);
+PETSC_INTERN PetscErrorCode PSCellsShareVolume(const PSSolver *, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr);
 
 #endif

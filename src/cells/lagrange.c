@@ -89,15 +89,15 @@ static inline void HourglassRates(const PSCorners *K, PetscInt o, const PetscRea
    state is relaxed by the closure, and letting it decide made the time step
    follow round-off) */
 #define PS_TRACE 1e-4
-static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal *ec, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
+static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
 {
   PetscInt m;
   *Mc = *Vm = *cmax = 0.0;
-  for (m = 0; m < C->nmat; m++) {
+  for (m = m0; m < m1; m++) {
     *Mc += PetscMax(u[m * C->ms + PS_CM], 0.0);
     *Vm += PetscMax(u[m * C->ms + PS_CV], 0.0);
   }
-  for (m = 0; m < C->nmat; m++)
+  for (m = m0; m < m1; m++)
     if (u[m * C->ms + PS_CM] > 0.0 && u[m * C->ms + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
@@ -123,18 +123,21 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
-        const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        const PetscInt   ci = PSCellIdx(C, i, j, k);
+        const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
-        CellMix(C, u, ec, &Mc, &Vm, &cmax);
+        PetscInt         m0, m1;
+        PSCellsPresent(C, ci, &m0, &m1);
+        CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* sum_k V_k s_k - (p_f + q) V_m I, p_f the closure's pressure (closure.c) */
         {
-          const PetscReal pf = PSCellsForcePressure(C, ec);
+          const PetscReal pf = PSCellsForcePressure(C, ec, m0, m1);
           for (d = 0; d < 3; d++) sig[d][d] -= Vm * pf;
         }
-        for (m = 0; m < C->nmat; m++) {
+        for (m = m0; m < m1; m++) {
           const PetscReal *blk = &u[m * C->ms];
           if (blk[PS_CM] <= 0.0) continue;
           if (C->nq) {
@@ -310,23 +313,26 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
-        const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        const PetscInt   ci = PSCellIdx(C, i, j, k);
+        const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
         PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * (1 + ns)], *gh = qh + 1;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
-        CellMix(C, u, ec, &Mc, &Vm, &cmax);
+        PetscInt         m0, m1;
+        PSCellsPresent(C, ci, &m0, &m1);
+        CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* the half-step state at v^{n+1/2*}: half the volume change, shared */
         CellGradient(&C->K, oc, C->vh, L, &vmax);
         trD = L[0][0] + L[1][1] + L[2][2];
         dVh = 0.5 * C->Vc * dt * trD;
-        PetscCall(PSCellsShareVolume(S, u, ec, dVh, dVk, NULL, NULL));
-        for (m = 0; m < C->nmat; m++) {
+        PetscCall(PSCellsShareVolume(S, u, ec, m0, m1, dVh, dVk, NULL, NULL));
+        for (e = 0; e < C->nmat * (1 + ns); e++) hs[e] = 0.0;
+        for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           const PetscReal  *blk = &u[m * C->ms];
           PetscReal        *pk = &hs[m * (1 + ns)], *sk = pk + 1, A, B, c2, e1, V1, J;
-          for (e = 0; e < 1 + ns; e++) pk[e] = 0.0;
           if (blk[PS_CM] <= 0.0) continue;
           V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
           J  = M->rho0 * V1 / blk[PS_CM];
@@ -360,7 +366,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
            weighted mean (PSCellsForcePressure) */
         *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
         {
-          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec) - u[C->nmat * C->ms + PS_CX_Q];
+          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - u[C->nmat * C->ms + PS_CX_Q];
           for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
@@ -457,11 +463,13 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
-        PetscReal       *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        const PetscInt   ci = PSCellIdx(C, i, j, k);
+        PetscReal       *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
         const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * (1 + C->ns)]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
+        PetscInt         m0, m1;
         CellGradient(&C->K, oc, C->vh, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
            each moving with the mean velocity of its corners: the remap moves
@@ -469,9 +477,10 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         trD = L[0][0] + L[1][1] + L[2][2];
         dV  = C->Vc * dt * trD;
         u[C->nmat * C->ms + PS_CX_V] = C->Vc + dV;
-        CellMix(C, u, ec, &Mc, &Vm, &cmax);
+        PSCellsPresent(C, ci, &m0, &m1);
+        CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
-        PetscCall(PSCellsShareVolume(S, u, ec, dV, dVk, dVr, &pr));
+        PetscCall(PSCellsShareVolume(S, u, ec, m0, m1, dV, dVk, dVr, &pr));
         /* artificial viscosity of the cell (compression only) at v^{n+1/2}, for
            the next step's force (this step's energy takes the half step's q^h,
            whose force the nodes felt) */
@@ -489,7 +498,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
             for (d = 0; d < dim; d++) hgw += kap * gh[3 * e + d] * hg[e][d] * dt;
         }
         /* each material: energy, pressure, deviator */
-        for (m = 0; m < C->nmat; m++) {
+        for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           PetscReal        *blk = &u[m * C->ms];
           const PetscReal  *pk  = &hs[m * (1 + C->ns)], *sk = pk + 1;
@@ -558,7 +567,7 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
         PetscReal Mc, Vm, cmax, vmax = 0.0;
-        CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * n * C->nmat], &Mc, &Vm, &cmax);
+        CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * n * C->nmat], 0, C->nmat, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         for (a = 0; a < C->K.nco; a++) {
           const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + C->K.off[a];

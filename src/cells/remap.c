@@ -97,17 +97,20 @@ static PetscErrorCode FractionsBuild(const PSCells *C, PSFractions *fr)
 }
 
 /* Volumes of each cell material (vol[0..nmat-1]) in the slab of width w (m)
-   next to the donor's face (side -1 lower, +1 upper) along d.  The donor is
-   a box of the cell's transverse size and its current volume; its
-   participants are reconstructed by nested dissection (plic.c) with Youngs'
-   normals of the cumulative fractions; the markers' and void's part of the
-   slab stays.  A pure donor gives the whole slab to its one material. */
-static void SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscInt c[3], const PetscReal *u, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
+   next to the donor's face (side -1 lower, +1 upper) along d.  The donor (a,
+   its cumulative fractions) is a box of the cell's transverse size and its
+   current volume; its participants are reconstructed by nested dissection
+   (plic.c) with Youngs' normals of the cumulative fractions; the markers'
+   and void's part of the slab stays.  A pure donor gives the whole slab to
+   its one material.  Returns the cell material the slab holds alone, or
+   PS_SLAB_MIXED (several participants), or PS_SLAB_NONE (no cell material). */
+#define PS_SLAB_MIXED (-1)
+#define PS_SLAB_NONE  (-2)
+static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscReal *a, const PetscReal *u, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
 {
   const PSCells  *C = S->cells;
   const PetscInt  dim = S->dim, nm = C->nmat;
   const PetscReal V = u[nm * C->ms + PS_CX_V], A = C->Vc / S->h[d];
-  const PetscReal *a = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (c[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (c[2] - fr->o[2]) * fr->s[2] : 0)];
   PetscReal        alpha[PS_PLIC_MAXMAT], nrm[PS_PLIC_MAXMAT][3], pv[PS_PLIC_MAXMAT], h[3], prev = 0.0;
   PetscInt         part[PS_PLIC_MAXMAT], np = 0, k, m;
   PSPlicCell       cell;
@@ -123,10 +126,13 @@ static void SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscInt
     alpha[np] = ak;
     np++;
   }
-  if (np == 0) return;
+  if (np == 0) return PS_SLAB_NONE;
   if (np == 1) {
-    if (part[0] >= 1 && part[0] <= nm) vol[part[0] - 1] = w * A;
-    return;
+    if (part[0] >= 1 && part[0] <= nm) {
+      vol[part[0] - 1] = w * A;
+      return part[0] - 1;
+    }
+    return PS_SLAB_NONE;
   }
   for (k = 0; k < 3; k++) h[k] = k < dim ? S->h[k] : 1.0;
   h[d] = V / A; /* the donor's current extent along the sweep */
@@ -137,6 +143,7 @@ static void SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscInt
   }
   for (k = 0; k < np; k++)
     if (part[k] >= 1 && part[k] <= nm) vol[part[k] - 1] = pv[k];
+  return PS_SLAB_MIXED;
 }
 
 /* the sweeps' scratch, kept between steps: face fluxes (nf reals), nodal
@@ -194,8 +201,9 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, d = sw->d;
   const PetscReal A = C->Vc / S->h[d], *v = C->vh;
   const PetscReal *ud;
+  const PetscReal *fa;
   PetscReal        delta = 0.0, vol[PS_MAX_CELLMAT], w, side;
-  PetscInt         a, b, c[3], m, q, o0, uc;
+  PetscInt         a, b, c[3], m, m0, m1, q, o0, uc;
 
   /* the face's displacement: the mean of its corners' velocities along d */
   o0 = Node(ix, dim, i);
@@ -214,9 +222,13 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   if (c[d] < 0 || c[d] >= C->nc[d]) return;
   uc = PSCellIdx(C, c[0], c[1], c[2]);
   ud = &C->u[dof * uc];
+  fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (c[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (c[2] - fr->o[2]) * fr->s[2] : 0)];
   w  = PetscMin(PetscAbsReal(delta) * A / ud[nm * ms + PS_CX_V], 1.0); /* the slab's share of the donor */
-  SlabVolumes(S, fr, c, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
-  for (m = 0; m < nm; m++) {
+  /* the materials in the slab: a pure donor's one, else all (vol 0 skips) */
+  m0 = SlabVolumes(S, fr, fa, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
+  m1 = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
+  m0 = PetscMax(m0, 0);
+  for (m = m0; m < m1; m++) {
     const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL};
     PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
     PetscBool        pure;
@@ -339,6 +351,9 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
   for (q = 0; q < nm * ms; q++) u[q] += fl[q] - fh[q];
   u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
   for (m = 0; m < nm; m++) {
+    /* a material absent from the cell before and after (all zero) has nothing to discard */
+    for (q = 0; q < ms && u[m * ms + q] == 0.0; q++) {}
+    if (q == ms) continue;
     /* traces below PS_DISCARD of the cell (a round-off residue, or what a
        face flux leaves behind against a marker body) are discarded, as CTH
        does, their mass and internal energy booked as lost; so is a volume
@@ -527,13 +542,14 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
         const PetscInt ci = PSCellIdx(C, i[0], i[1], i[2]), o0 = Node(ix, dim, i);
         PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
-        PetscInt       c;
+        PetscInt       c, m0, m1;
         if (Mc <= 0.0) continue;
         for (c = 0; c < (1 << dim); c++) {
           const PetscInt o = o0 + (c & 1) + ((c >> 1) & 1) * ix->gm[0] + ((c >> 2) & 1) * ix->gm[0] * ix->gm[1];
           if (C->mcn[o] > 0.0) dE += VL[dim * o]; /* per unit of the cell's mass */
         }
-        for (m = 0; m < nm; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM];
+        PSCellsPresent(C, ci, &m0, &m1); /* as PSCellsNodalMass found them after the sweep */
+        for (m = m0; m < m1; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM];
         C->remap_heat += dE * Mc;
       }
 
