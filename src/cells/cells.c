@@ -164,53 +164,72 @@ PetscErrorCode PSCellsExchange(PSCells *C)
 }
 
 /* m^C_i = sum_c M_c / 2^dim over the cells around each local node (ghost
-   nodes included where their cells are in the ghosted box); each cell's M_c
-   kept in C->Mcell for the remap (every change of the cells' masses ends
-   here: the remap's sweeps, the fit, insertion and restart) */
-PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
+   nodes included where their cells are in the ghosted box), from C->Mcell:
+   each node sums its cells in the order of the cell array (z, y, x), skipping
+   cells without mass */
+static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
 {
   PSCells        *C   = S->cells;
-  const PetscInt  dim = S->dim, nz = dim == 3 ? 2 : 1;
+  const PetscInt  dim = S->dim;
   const PetscReal w   = dim == 3 ? 0.125 : 0.25;
-  const PetscInt  sj = ix->gm[0], sk = ix->gm[0] * ix->gm[1]; /* node strides */
-  PetscInt        i, j, k, a, b, c, m;
+  PetscInt        n[3], c[3], lo[3], hi[3], e;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscArrayzero(C->mcn, C->nnl));
+  for (n[2] = ix->gs[2]; n[2] < ix->gs[2] + ix->gm[2]; n[2]++)
+    for (n[1] = ix->gs[1]; n[1] < ix->gs[1] + ix->gm[1]; n[1]++)
+      for (n[0] = ix->gs[0]; n[0] < ix->gs[0] + ix->gm[0]; n[0]++) {
+        PetscReal mc = 0.0;
+        /* the cells with node n as a corner, clipped to the ghosted cell box */
+        for (e = 0; e < 3; e++) {
+          lo[e] = e < dim ? PetscMax(n[e] - PS_PAD - 1, C->gs[e]) : 0;
+          hi[e] = e < dim ? PetscMin(n[e] - PS_PAD, C->gs[e] + C->gm[e] - 1) : 0;
+        }
+        for (c[2] = lo[2]; c[2] <= hi[2]; c[2]++)
+          for (c[1] = lo[1]; c[1] <= hi[1]; c[1]++)
+            for (c[0] = lo[0]; c[0] <= hi[0]; c[0]++) {
+              const PetscReal Mc = C->Mcell[PSCellIdx(C, c[0], c[1], c[2])];
+              if (Mc != 0.0) mc += w * Mc;
+            }
+        C->mcn[Lidx(ix, n[0], n[1], n[2])] = mc;
+      }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the nodal masses m^C_i, with each ghosted cell's M_c and materials with
+   mass (C->Mcell, C->sole: PSCellsCellMass) for the remap and the
+   Lagrangian phases; every change of the cells' masses ends here (the fit,
+   insertion, restart) or in PSCellsNodalMassGhosts (the remap's sweeps) */
+PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
+{
+  PSCells *C = S->cells;
+  PetscInt i, j, k;
+
+  PetscFunctionBeginUser;
   for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
     for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++)
+      for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) PSCellsCellMass(C, PSCellIdx(C, i, j, k));
+  PetscCall(NodalMassGather(S, ix));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the same where the owned cells' M_c are already set (the remap's cell
+   update): the ghost cells' (just exchanged), then the nodes */
+PetscErrorCode PSCellsNodalMassGhosts(PSSolver *S, const PSIndex *ix)
+{
+  PSCells *C = S->cells;
+  PetscInt i, j, k;
+
+  PetscFunctionBeginUser;
+  for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
+    for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++) {
+      const PetscBool inner = j >= C->cs[1] && j < C->ce[1] && k >= C->cs[2] && k < C->ce[2] ? PETSC_TRUE : PETSC_FALSE;
       for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) {
-        const PetscReal *u  = &C->u[C->dof * PSCellIdx(C, i, j, k)];
-        PetscReal        Mc = 0.0;
-        PetscInt         sole = PS_CELL_EMPTY;
-        for (m = 0; m < C->nmat; m++) {
-          Mc += u[m * C->ms + PS_CM];
-          if (u[m * C->ms + PS_CM] > 0.0) sole = sole == PS_CELL_EMPTY ? m : PS_CELL_SEVERAL;
-        }
-        C->Mcell[PSCellIdx(C, i, j, k)] = Mc;
-        C->sole[PSCellIdx(C, i, j, k)]  = (signed char)sole;
-        if (Mc == 0.0) continue;
-        /* corners: DMDA nodes i + PS_PAD + a, ... (those in the local node array;
-           all of them but at the box's edge) */
-        if (i + PS_PAD >= ix->gs[0] && i + PS_PAD + 1 < ix->gs[0] + ix->gm[0] && j + PS_PAD >= ix->gs[1] && j + PS_PAD + 1 < ix->gs[1] + ix->gm[1] &&
-            (dim < 3 || (k + PS_PAD >= ix->gs[2] && k + PS_PAD + 1 < ix->gs[2] + ix->gm[2]))) {
-          PetscReal *mc = &C->mcn[Lidx(ix, i + PS_PAD, j + PS_PAD, dim == 3 ? k + PS_PAD : 0)];
-          for (c = 0; c < nz; c++, mc += sk) {
-            mc[0] += w * Mc;
-            mc[1] += w * Mc;
-            mc[sj] += w * Mc;
-            mc[sj + 1] += w * Mc;
-          }
-          continue;
-        }
-        for (c = 0; c < nz; c++)
-          for (b = 0; b < 2; b++)
-            for (a = 0; a < 2; a++) {
-              const PetscInt n[3] = {i + PS_PAD + a, j + PS_PAD + b, dim == 3 ? k + PS_PAD + c : 0};
-              if (n[0] < ix->gs[0] || n[0] >= ix->gs[0] + ix->gm[0] || n[1] < ix->gs[1] || n[1] >= ix->gs[1] + ix->gm[1] || n[2] < ix->gs[2] || n[2] >= ix->gs[2] + ix->gm[2]) continue;
-              C->mcn[Lidx(ix, n[0], n[1], n[2])] += w * Mc;
-            }
+        if (inner && i == C->cs[0]) i = C->ce[0]; /* the owned cells of this row */
+        if (i >= C->gs[0] + C->gm[0]) break;
+        PSCellsCellMass(C, PSCellIdx(C, i, j, k));
       }
+    }
+  PetscCall(NodalMassGather(S, ix));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

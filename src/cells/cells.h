@@ -129,6 +129,21 @@ static inline PetscInt PSCellIdx(const PSCells *C, PetscInt i, PetscInt j, Petsc
   return ((k - C->gs[2]) * C->gm[1] + (j - C->gs[1])) * C->gm[0] + (i - C->gs[0]);
 }
 
+/* ghosted cell ci's mass M_c (the sum over its materials, in order) and its
+   materials with mass, into C->Mcell and C->sole */
+static inline void PSCellsCellMass(PSCells *C, PetscInt ci)
+{
+  const PetscReal *u    = &C->u[C->dof * ci];
+  PetscReal        Mc   = 0.0;
+  PetscInt         sole = PS_CELL_EMPTY, m;
+  for (m = 0; m < C->nmat; m++) {
+    Mc += u[m * C->ms + PS_CM];
+    if (u[m * C->ms + PS_CM] > 0.0) sole = sole == PS_CELL_EMPTY ? m : PS_CELL_SEVERAL;
+  }
+  C->Mcell[ci] = Mc;
+  C->sole[ci]  = (signed char)sole;
+}
+
 /* a cell material's EOS (the registry's model, materials.h): the ideal gas,
    most cells' material, evaluated here as PSEOSIdealGas does (the same
    operations, so the same values), any other model through its function
@@ -157,6 +172,7 @@ PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);
 PETSC_INTERN PetscErrorCode PSCellsExchange(PSCells *);
 PETSC_INTERN PetscErrorCode PSCellsNodalMass(PSSolver *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSCellsNodalMassGhosts(PSSolver *, const PSIndex *);
 PETSC_INTERN PetscErrorCode PSCellsPressure(const PSSolver *, PetscInt k, const PetscReal *blk, PetscReal *p, PetscReal *c);
 PETSC_INTERN PetscErrorCode PSCellsWrite(PSSolver *, PetscViewer, const char *const material_names[]);
 PETSC_INTERN PetscErrorCode PSCellsCheckpoint(PSSolver *, PetscViewer);

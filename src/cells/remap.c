@@ -344,8 +344,8 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
 static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], const PetscReal *fl, const PetscReal *fh)
 {
   PSCells        *C = S->cells;
-  const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
-  PetscReal      *u = &C->u[C->dof * PSCellIdx(C, i[0], i[1], i[2])];
+  const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, ci = PSCellIdx(C, i[0], i[1], i[2]);
+  PetscReal      *u = &C->u[C->dof * ci];
   PetscInt        m, q;
 
   for (q = 0; q < nm * ms; q++) u[q] += fl[q] - fh[q];
@@ -378,6 +378,9 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
       S->lost_local.mass += fh[m * ms + PS_CM];
       S->lost_local.internal += fh[m * ms + PS_CE];
     }
+  /* its mass for the nodes (PSCellsNodalMassGhosts; DualFlux has read the
+     one before the sweep) */
+  PSCellsCellMass(C, ci);
 }
 
 /* one sweep along d; dim a constant where it is called (Sweep picks 2D or
@@ -495,7 +498,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   /* the cells' new state to the ghosts; the new nodal masses */
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
   PetscCall(PSCellsExchange(C));
-  PetscCall(PSCellsNodalMass(S, ix));
+  PetscCall(PSCellsNodalMassGhosts(S, ix));
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_KE, 0, 0, 0, 0));
   /* the new nodal momentum on the owned nodes: its velocity kept within the
