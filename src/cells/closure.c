@@ -72,12 +72,11 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         PetscInt         m0, m1;
-        PetscCall(PetscArrayzero(&C->ec[PS_EC * n * C->nmat], PS_EC * C->nmat));
         PSCellsPresent(C, ci, &m0, &m1);
-        for (m = m0; m < m1; m++) {
+        for (m = 0; m < C->nmat; m++) {
           const PetscReal *blk = &u[m * C->ms];
           PetscReal       *ec  = &C->ec[PS_EC * (n * C->nmat + m)];
-          if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
+          if (m < m0 || m >= m1 || blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
             ec[0] = ec[1] = ec[2] = 0.0;
             continue;
           }
@@ -117,12 +116,10 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const P
 
   PetscFunctionBeginUser;
   if (pr) *pr = 0.0;
-  for (m = m0; m < m1; m++) {
+  for (m = m0; m < m1; m++) { /* (zeroed in this loop, not one of its own: a loop of stores becomes a call to memset) */
+    const PetscReal *blk = &u[m * C->ms];
     dVk[m] = chi[m] = p[m] = 0.0;
     if (dVr) dVr[m] = 0.0;
-  }
-  for (m = m0; m < m1; m++) {
-    const PetscReal *blk = &u[m * C->ms];
     if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
     chi[m] = ec[PS_EC * m + 2];
     p[m]   = ec[PS_EC * m];

@@ -328,11 +328,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         trD = L[0][0] + L[1][1] + L[2][2];
         dVh = 0.5 * C->Vc * dt * trD;
         PetscCall(PSCellsShareVolume(S, u, ec, m0, m1, dVh, dVk, NULL, NULL));
-        for (e = 0; e < C->nmat * (1 + ns); e++) hs[e] = 0.0;
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           const PetscReal  *blk = &u[m * C->ms];
           PetscReal        *pk = &hs[m * (1 + ns)], *sk = pk + 1, A, B, c2, e1, V1, J;
+          for (e = 0; e < 1 + ns; e++) pk[e] = 0.0; /* (only the materials with mass read it: the Lagrangian phase) */
           if (blk[PS_CM] <= 0.0) continue;
           V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
           J  = M->rho0 * V1 / blk[PS_CM];
