@@ -99,12 +99,18 @@ typedef struct PSCells_ {
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */
 } PSCells;
 
-/* reals per owned cell of the predictor's half-step values (C->hs,
-   lagrange.c): per material p_k^h and s_k^h (ns), then q^h and the
-   hourglass rates g_m^h (4 x 3) */
+/* the predictor's half-step values per owned cell (C->hs, lagrange.c): per
+   material p_k^h, and s_k^h (ns) where cell materials carry strength, then q^h
+   and the hourglass rates g_m^h (one mode of dim components in 2D, four in
+   3D).  Reals per material, and in all */
+static inline PetscInt PSCellsHalfMat(const PSCells *C)
+{
+  return 1 + (C->nq ? C->ns : 0);
+}
+
 static inline PetscInt PSCellsHalfSize(const PSCells *C)
 {
-  return C->nmat * (1 + C->ns) + 1 + 12;
+  return C->nmat * PSCellsHalfMat(C) + 1 + (C->dim == 3 ? 4 : 1) * C->dim;
 }
 
 /* the cells' materials with mass: a cell holds one (nearly every cell), several, or none */

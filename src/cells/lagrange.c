@@ -316,7 +316,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * (1 + ns)], *gh = qh + 1;
+        PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * PSCellsHalfMat(C)], *gh = qh + 1;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
@@ -331,8 +331,8 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           const PetscReal  *blk = &u[m * C->ms];
-          PetscReal        *pk = &hs[m * (1 + ns)], *sk = pk + 1, A, B, c2, e1, V1, J;
-          for (e = 0; e < 1 + ns; e++) pk[e] = 0.0; /* (only the materials with mass read it: the Lagrangian phase) */
+          PetscReal        *pk = &hs[m * PSCellsHalfMat(C)], *sk = pk + 1, A, B, c2, e1, V1, J;
+          for (e = 0; e < PSCellsHalfMat(C); e++) pk[e] = 0.0; /* (only the materials with mass read it: the Lagrangian phase) */
           if (blk[PS_CM] <= 0.0) continue;
           V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
           J  = M->rho0 * V1 / blk[PS_CM];
@@ -373,8 +373,8 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
         HourglassRates(&C->K, oc, C->vh, hgh);
         HourglassRates(&C->K, oc, C->Pn, hg0); /* the cells' nodal velocity at t^n (PSCellsToGrid) */
-        for (e = 0; e < 4; e++)
-          for (d = 0; d < 3; d++) gh[3 * e + d] = hgh[e][d];
+        for (e = 0; e < nh; e++)
+          for (d = 0; d < dim; d++) gh[dim * e + d] = hgh[e][d];
         kap = HourglassKappa(&C->K, Mc, cmax);
         /* the force change at the corners */
         for (a = 0; a < nco; a++) {
@@ -466,7 +466,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         PetscReal       *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
-        const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * (1 + C->ns)]; /* the predictor's half-step values; q^h */
+        const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * PSCellsHalfMat(C)]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscInt         m0, m1;
@@ -490,18 +490,18 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
-          const PetscReal *gh  = hs + C->nmat * (1 + C->ns) + 1, kap = HourglassKappa(&C->K, Mc, cmax);
+          const PetscReal *gh  = hs + C->nmat * PSCellsHalfMat(C) + 1, kap = HourglassKappa(&C->K, Mc, cmax);
           PetscReal        hg[4][3];
           PetscInt         e;
           HourglassRates(&C->K, oc, C->vh, hg);
           for (e = 0; e < nh; e++)
-            for (d = 0; d < dim; d++) hgw += kap * gh[3 * e + d] * hg[e][d] * dt;
+            for (d = 0; d < dim; d++) hgw += kap * gh[dim * e + d] * hg[e][d] * dt;
         }
         /* each material: energy, pressure, deviator */
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           PetscReal        *blk = &u[m * C->ms];
-          const PetscReal  *pk  = &hs[m * (1 + C->ns)], *sk = pk + 1;
+          const PetscReal  *pk  = &hs[m * PSCellsHalfMat(C)], *sk = pk + 1;
           PetscReal         wdev = 0.0, wh = 0.0, V1, e1;
           if (blk[PS_CM] <= 0.0) continue;
           V1 = blk[PS_CV] + dVk[m];
