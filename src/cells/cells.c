@@ -65,6 +65,8 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PetscNew(&C));
   C->dim  = S->dim;
   C->nmat = scene->ncellmat;
+  for (k = 0; k < scene->nbody; k++)
+    if (scene->bodies[k].cellmat < 0) C->markers = PETSC_TRUE;
   for (k = 0; k < C->nmat; k++) {
     C->mat[k] = scene->cellmat[k];
     if (mats[C->mat[k]].G > 0.0) strength = PETSC_TRUE;
@@ -221,14 +223,11 @@ PetscErrorCode PSCellsNodalMassGhosts(PSSolver *S, const PSIndex *ix)
 
   PetscFunctionBeginUser;
   for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
-    for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++) {
-      const PetscBool inner = j >= C->cs[1] && j < C->ce[1] && k >= C->cs[2] && k < C->ce[2] ? PETSC_TRUE : PETSC_FALSE;
+    for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++)
       for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) {
-        if (inner && i == C->cs[0]) i = C->ce[0]; /* the owned cells of this row */
-        if (i >= C->gs[0] + C->gm[0]) break;
+        if (i >= C->cs[0] && i < C->ce[0] && j >= C->cs[1] && j < C->ce[1] && k >= C->cs[2] && k < C->ce[2]) continue; /* owned */
         PSCellsCellMass(C, PSCellIdx(C, i, j, k));
       }
-    }
   PetscCall(NodalMassGather(S, ix));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -59,6 +59,7 @@ typedef struct {
 typedef struct PSCells_ {
   PetscInt  dim;
   PetscInt  nmat;                 /* cell materials */
+  PetscBool markers;              /* the scene has marker bodies */
   PetscInt  mat[PS_MAX_CELLMAT];  /* their material ids */
   PetscInt  nq;                   /* advected quantities per material after E: 0, or ns + 2 */
   PetscInt  ns;                   /* stress components (4 in 2D, 6 in 3D) */

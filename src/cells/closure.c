@@ -116,7 +116,7 @@ PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const P
 
   PetscFunctionBeginUser;
   if (pr) *pr = 0.0;
-  for (m = m0; m < m1; m++) { /* (zeroed in this loop, not one of its own: a loop of stores becomes a call to memset) */
+  for (m = m0; m < m1; m++) {
     const PetscReal *blk = &u[m * C->ms];
     dVk[m] = chi[m] = p[m] = 0.0;
     if (dVr) dVr[m] = 0.0;
@@ -236,80 +236,87 @@ static PetscErrorCode DiscardMomentum(PSSolver *S, const PSIndex *ix)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Markers' volume and compliance into the cells, each marker as a box of
-   its volume centred on it (V_p^(1/dim) a side; the boxes tile a body as
-   inserted) shared among the cells it overlaps, so a body's share of a cell
-   grows smoothly as it moves in; boxes reaching a neighbour's cells are summed
-   by the ghost exchange.  Then the cell materials are fitted beside them. */
-PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
+/* Markers' volume and compliance into the cells (their share PS_CX_AM and
+   compliance PS_CX_CM), each marker as a box of its volume centred on it
+   (V_p^(1/dim) a side; the boxes tile a body as inserted) shared among the
+   cells it overlaps, so a body's share of a cell grows smoothly as it moves
+   in; boxes reaching a neighbour's cells are summed by the ghost exchange */
+static PetscErrorCode DepositMarkers(PSSolver *S)
 {
   PSCells        *C   = S->cells;
   const PetscInt  dim = S->dim;
-  PetscInt        n, p, d, i, j, k, m, *mat, c, nfit = 0;
+  PetscInt        n, p, d, i, j, k, *mat, c;
   PetscReal      *x, *vol, *V0, *F, *dep = C->dep;
-  PetscBool       markers = PETSC_FALSE;
-  PSIndex         ix;
 
   PetscFunctionBeginUser;
-  /* a scene without marker bodies: the markers' share stays 0 (set at
-     insertion), and where no cell needed fitting (nearly always: the remap
-     gives each cell its volume back) the state, its ghosts and the nodal
-     masses are the remap's; they are neither redone nor exchanged */
-  for (p = 0; p < S->scene->nbody; p++)
-    if (S->scene->bodies[p].cellmat < 0) markers = PETSC_TRUE;
-  if (markers || !fit) {
-    PetscCall(PetscArrayzero(dep, 2 * C->ncl));
-    PetscCall(DMSwarmGetLocalSize(S->sw, &n));
-    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
-    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
-    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
-    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
-    PetscCall(DMSwarmGetField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
-    for (p = 0; p < n; p++) {
-      const PetscReal a0 = dim == 3 ? PetscCbrtReal(V0[p]) : PetscSqrtReal(V0[p]);
-      PetscInt        c0[3] = {0, 0, 0};
-      PetscReal       w[3][2] = {{1, 0}, {1, 0}, {1, 0}};
-      /* per direction: the box's side a = a0 |F_dd| (it shortens along a
-         compression, so a body's boxes keep tiling it in uniaxial strain), the
-         two cells it can overlap and its share in each */
-      for (d = 0; d < dim; d++) {
-        const PetscReal a  = a0 * PetscAbsReal(F[p * dim * dim + d * dim + d]);
-        const PetscReal lo = (x[p * dim + d] - 0.5 * a - S->scene->lower[d]) * S->ih[d], hi = lo + a * S->ih[d];
-        const PetscReal f  = PetscFloorReal(lo);
-        c0[d]   = (PetscInt)f;
-        w[d][1] = hi > f + 1.0 ? (hi - (f + 1.0)) / (hi - lo) : 0.0;
-        w[d][0] = 1.0 - w[d][1];
-      }
-      for (c = 0; c < (1 << dim); c++) {
-        PetscInt  cc[3] = {0, 0, 0}, o;
-        PetscReal share = 1.0;
-        for (d = 0; d < dim; d++) {
-          const PetscInt b = (c >> d) & 1;
-          share *= w[d][b];
-          /* clipped to the domain and the ghosted box (a box reaches one cell out) */
-          cc[d] = PetscMin(PetscMax(c0[d] + b, PetscMax(C->gs[d], 0)), PetscMin(C->gs[d] + C->gm[d], C->nc[d]) - 1);
-        }
-        if (share <= 0.0) continue;
-        o = PSCellIdx(C, cc[0], cc[1], cc[2]);
-        dep[2 * o] += share * vol[p] / C->Vc;
-        dep[2 * o + 1] += share * vol[p] / C->Kmat[mat[p]];
-      }
+  PetscCall(PetscArrayzero(dep, 2 * C->ncl));
+  PetscCall(DMSwarmGetLocalSize(S->sw, &n));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
+  PetscCall(DMSwarmGetField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
+  for (p = 0; p < n; p++) {
+    const PetscReal a0 = dim == 3 ? PetscCbrtReal(V0[p]) : PetscSqrtReal(V0[p]);
+    PetscInt        c0[3] = {0, 0, 0};
+    PetscReal       w[3][2] = {{1, 0}, {1, 0}, {1, 0}};
+    /* per direction: the box's side a = a0 |F_dd| (it shortens along a
+       compression, so a body's boxes keep tiling it in uniaxial strain), the
+       two cells it can overlap and its share in each */
+    for (d = 0; d < dim; d++) {
+      const PetscReal a  = a0 * PetscAbsReal(F[p * dim * dim + d * dim + d]);
+      const PetscReal lo = (x[p * dim + d] - 0.5 * a - S->scene->lower[d]) * S->ih[d], hi = lo + a * S->ih[d];
+      const PetscReal f  = PetscFloorReal(lo);
+      c0[d]   = (PetscInt)f;
+      w[d][1] = hi > f + 1.0 ? (hi - (f + 1.0)) / (hi - lo) : 0.0;
+      w[d][0] = 1.0 - w[d][1];
     }
-    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
-    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
-    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
-    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
-    PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
-    PetscCall(PSHaloReduce(C->sfd, dep));
-    for (k = C->cs[2]; k < C->ce[2]; k++)
-      for (j = C->cs[1]; j < C->ce[1]; j++)
-        for (i = C->cs[0]; i < C->ce[0]; i++) {
-          const PetscInt o  = PSCellIdx(C, i, j, k);
-          PetscReal     *x_ = &C->u[C->dof * o + C->nmat * C->ms];
-          x_[PS_CX_AM] = dep[2 * o];
-          x_[PS_CX_CM] = dep[2 * o + 1];
-        }
+    for (c = 0; c < (1 << dim); c++) {
+      PetscInt  cc[3] = {0, 0, 0}, o;
+      PetscReal share = 1.0;
+      for (d = 0; d < dim; d++) {
+        const PetscInt b = (c >> d) & 1;
+        share *= w[d][b];
+        /* clipped to the domain and the ghosted box (a box reaches one cell out) */
+        cc[d] = PetscMin(PetscMax(c0[d] + b, PetscMax(C->gs[d], 0)), PetscMin(C->gs[d] + C->gm[d], C->nc[d]) - 1);
+      }
+      if (share <= 0.0) continue;
+      o = PSCellIdx(C, cc[0], cc[1], cc[2]);
+      dep[2 * o] += share * vol[p] / C->Vc;
+      dep[2 * o + 1] += share * vol[p] / C->Kmat[mat[p]];
+    }
   }
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_F, NULL, NULL, (void **)&F));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_V0, NULL, NULL, (void **)&V0));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_MATERIAL, NULL, NULL, (void **)&mat));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_VOLUME, NULL, NULL, (void **)&vol));
+  PetscCall(DMSwarmRestoreField(S->sw, PS_FIELD_X, NULL, NULL, (void **)&x));
+  PetscCall(PSHaloReduce(C->sfd, dep));
+  for (k = C->cs[2]; k < C->ce[2]; k++)
+    for (j = C->cs[1]; j < C->ce[1]; j++)
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        const PetscInt o  = PSCellIdx(C, i, j, k);
+        PetscReal     *x_ = &C->u[C->dof * o + C->nmat * C->ms];
+        x_[PS_CX_AM] = dep[2 * o];
+        x_[PS_CX_CM] = dep[2 * o + 1];
+      }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The markers' share of each cell (DepositMarkers), then the cell materials
+   fitted beside them.  A scene without marker bodies keeps the share 0 set
+   at insertion, and where no cell needed fitting (nearly always: the remap
+   gives each cell its volume back) the state, its ghosts and the nodal
+   masses are the remap's: they are neither redone nor exchanged. */
+PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
+{
+  PSCells  *C = S->cells;
+  PetscInt  i, j, k, m, nfit = 0;
+  PetscReal *dep = C->dep;
+  PSIndex   ix;
+
+  PetscFunctionBeginUser;
+  if (C->markers || !fit) PetscCall(DepositMarkers(S));
   /* dep now takes each cell's discarded mass (kg), for its nodes' momentum */
   PetscCall(PetscArrayzero(dep, 2 * C->ncl));
   PetscCall(PSGridIndex(S->da, &ix));
@@ -387,7 +394,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           blk[PS_CV] = V1;
         }
       }
-  if (!markers && fit) {
+  if (!C->markers && fit) {
     PetscBool any = nfit > 0 ? PETSC_TRUE : PETSC_FALSE;
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)S->da)));
     if (!any) PetscFunctionReturn(PETSC_SUCCESS);

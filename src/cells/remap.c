@@ -544,14 +544,14 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
         const PetscInt ci = PSCellIdx(C, i[0], i[1], i[2]), o0 = Node(ix, dim, i);
-        PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
+        PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMassGhosts above) */
         PetscInt       c, m0, m1;
         if (Mc <= 0.0) continue;
         for (c = 0; c < (1 << dim); c++) {
           const PetscInt o = o0 + (c & 1) + ((c >> 1) & 1) * ix->gm[0] + ((c >> 2) & 1) * ix->gm[0] * ix->gm[1];
           if (C->mcn[o] > 0.0) dE += VL[dim * o]; /* per unit of the cell's mass */
         }
-        PSCellsPresent(C, ci, &m0, &m1); /* as PSCellsNodalMass found them after the sweep */
+        PSCellsPresent(C, ci, &m0, &m1); /* as found after the sweep */
         for (m = m0; m < m1; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM];
         C->remap_heat += dE * Mc;
       }
