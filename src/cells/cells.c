@@ -146,7 +146,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscSFDestroy(&(*C)->sfu));
   PetscCall(PetscSFDestroy(&(*C)->sfd));
   PetscCall(PetscFree((*C)->dep));
-  PetscCall(PetscFree((*C)->sF));
+  PetscCall(PetscFree2((*C)->sF, (*C)->sR));
   PetscCall(PetscFree((*C)->sA));
   PetscCall(PetscFree((*C)->ec));
   if ((*C)->sK) PetscCall(PetscFree3((*C)->sK, (*C)->sVB, (*C)->sVL));

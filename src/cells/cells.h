@@ -73,6 +73,7 @@ typedef struct PSCells_ {
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance */
   PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
+  PetscInt  *sR;
   PetscInt  nsF;
   PetscReal *ec;                  /* per owned cell and material: the step's EOS values (closure.c) */
   PetscSF   sfd;                  /* its ghost sums (halo.c) */

@@ -146,15 +146,16 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
   return PS_SLAB_MIXED;
 }
 
-/* the sweeps' scratch, kept between steps: face fluxes (nf reals), nodal
-   kinetic energy, velocity and its bounds */
-static PetscErrorCode ScratchSize(PSCells *C, PetscInt nf)
+/* the sweeps' scratch, kept between steps: face fluxes (nface faces of fs
+   reals) and the range of materials each face's fluxes hold, nodal kinetic
+   energy, velocity and its bounds */
+static PetscErrorCode ScratchSize(PSCells *C, PetscInt nface, PetscInt fs)
 {
   PetscFunctionBeginUser;
-  if (nf > C->nsF) {
-    PetscCall(PetscFree(C->sF));
-    PetscCall(PetscMalloc1(nf, &C->sF));
-    C->nsF = nf;
+  if (nface * fs > C->nsF) {
+    PetscCall(PetscFree2(C->sF, C->sR));
+    PetscCall(PetscMalloc2(nface * fs, &C->sF, 2 * nface, &C->sR));
+    C->nsF = nface * fs;
   }
   if (!C->sK) PetscCall(PetscMalloc3(C->nnl, &C->sK, 2 * C->dim * C->nnl, &C->sVB, C->dim * C->nnl, &C->sVL));
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -194,8 +195,11 @@ static void SweepDirs(const PSCells *C, const PSIndex *ix, PetscInt dim, PetscIn
 }
 
 /* the fluxes through one face (signed, + along d); F = per material (dV, dM,
-   dE, dQ...) then the face's volume delta A and the total mass flux */
-static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal *F)
+   dE, dQ...) then the face's volume delta A and the total mass flux.  Only
+   the materials [R[0], R[1]) are written (a pure donor's one, or all): the
+   others carry nothing, and the cell update reads no more (no zeroing of
+   every material's fluxes for every face) */
+static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal *F, PetscInt *R)
 {
   const PSCells  *C = S->cells;
   const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, d = sw->d;
@@ -203,7 +207,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   const PetscReal *ud;
   const PetscReal *fa;
   PetscReal        delta = 0.0, vol[PS_MAX_CELLMAT], w, side;
-  PetscInt         a, b, c[3], m, m0, m1, q, o0, uc;
+  PetscInt         a, b, c[3], m, m0, m1, q, o0, uc, s;
 
   /* the face's displacement: the mean of its corners' velocities along d */
   o0 = Node(ix, dim, i);
@@ -212,6 +216,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   delta *= dt / (dim == 3 ? 4.0 : 2.0);
   F[nm * ms]     = delta * A;
   F[nm * ms + 1] = 0.0;
+  R[0] = R[1] = 0;
   if (delta == 0.0) return;
   /* the donor: the cell behind the face; none outside the domain (void enters) */
   c[0] = i[0];
@@ -224,15 +229,27 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   ud = &C->u[dof * uc];
   fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (c[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (c[2] - fr->o[2]) * fr->s[2] : 0)];
   w  = PetscMin(PetscAbsReal(delta) * A / ud[nm * ms + PS_CX_V], 1.0); /* the slab's share of the donor */
-  /* the materials in the slab: a pure donor's one, else all (vol 0 skips) */
-  m0 = SlabVolumes(S, fr, fa, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
-  m1 = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
-  m0 = PetscMax(m0, 0);
+  /* the materials in the slab.  A donor whose one material with mass fills
+     it (no markers, no void above round-off: the others hold no volume) gives
+     it the whole slab, as SlabVolumes does (the same value, without its
+     search of the participants); else a pure donor's one, or all (vol 0 skips) */
+  s = C->sole[uc];
+  if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12) {
+    vol[s] = w * ud[nm * ms + PS_CX_V] / A * A;
+    m0     = s;
+  } else m0 = SlabVolumes(S, fr, fa, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
+  m1   = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
+  m0   = PetscMax(m0, 0);
+  R[0] = m0;
+  R[1] = PetscMax(m0, m1);
   for (m = m0; m < m1; m++) {
     const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL};
     PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
     PetscBool        pure;
-    if (vol[m] <= 0.0 || blk[PS_CM] <= 0.0) continue;
+    if (vol[m] <= 0.0 || blk[PS_CM] <= 0.0) {
+      for (q = 0; q < ms; q++) F[m * ms + q] = 0.0;
+      continue;
+    }
     rho = blk[PS_CM] / blk[PS_CV];
     /* van Leer slopes where the donor and its neighbours along d are pure in m */
     pure = blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
@@ -339,18 +356,35 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
     }
 }
 
-/* an owned cell's update from its faces' fluxes fl (lower) and fh (upper):
-   in through the lower face, out through the upper */
-static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], const PetscReal *fl, const PetscReal *fh)
+/* an owned cell's update from its faces' fluxes fl (lower) and fh (upper),
+   which hold the materials [rl[0], rl[1]) and [rh[0], rh[1]): in through the
+   lower face, out through the upper.  Materials in neither range are not
+   touched (their fluxes are zero: u + (0 - 0) is u), and only those fluxed
+   or with mass before the sweep are tested for discard (the others are all
+   zero, which the test skips) */
+static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
   const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, ci = PSCellIdx(C, i[0], i[1], i[2]);
   PetscReal      *u = &C->u[C->dof * ci];
-  PetscInt        m, q;
+  PetscInt        m, q, f0, f1, m0, m1;
 
-  for (q = 0; q < nm * ms; q++) u[q] += fl[q] - fh[q];
+  /* the materials fluxed: the union of the faces' ranges (the materials
+     between them take 0 - 0) */
+  f0 = rl[0] < rl[1] ? (rh[0] < rh[1] ? PetscMin(rl[0], rh[0]) : rl[0]) : rh[0];
+  f1 = rl[0] < rl[1] ? (rh[0] < rh[1] ? PetscMax(rl[1], rh[1]) : rl[1]) : rh[1];
+  for (m = f0; m < f1; m++) {
+    const PetscBool inl = m >= rl[0] && m < rl[1] ? PETSC_TRUE : PETSC_FALSE, inh = m >= rh[0] && m < rh[1] ? PETSC_TRUE : PETSC_FALSE;
+    for (q = m * ms; q < (m + 1) * ms; q++) u[q] += (inl ? fl[q] : 0.0) - (inh ? fh[q] : 0.0);
+  }
   u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
-  for (m = 0; m < nm; m++) {
+  /* with the materials that had mass before the sweep */
+  PSCellsPresent(C, ci, &m0, &m1);
+  if (f0 < f1) {
+    m0 = m0 < m1 ? PetscMin(m0, f0) : f0;
+    m1 = PetscMax(m1, f1);
+  }
+  for (m = m0; m < m1; m++) {
     /* a material absent from the cell before and after (all zero) has nothing to discard */
     for (q = 0; q < ms && u[m * ms + q] == 0.0; q++) {}
     if (q == ms) continue;
@@ -369,12 +403,12 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
   }
   /* outflow through free faces of the domain */
   if (i[d] == 0 && fl[fs - 1] < 0.0)
-    for (m = 0; m < nm; m++) {
+    for (m = rl[0]; m < rl[1]; m++) {
       S->lost_local.mass -= fl[m * ms + PS_CM];
       S->lost_local.internal -= fl[m * ms + PS_CE];
     }
   if (i[d] + 1 == C->nc[d] && fh[fs - 1] > 0.0)
-    for (m = 0; m < nm; m++) {
+    for (m = rh[0]; m < rh[1]; m++) {
       S->lost_local.mass += fh[m * ms + PS_CM];
       S->lost_local.internal += fh[m * ms + PS_CE];
     }
@@ -390,7 +424,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   PSCells        *C = S->cells;
   const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   PetscReal      *F, *K, *VB, *VL, *P = C->P, *Pn = C->Pn;
-  PetscInt        lo[3], hi[3], i[3], e, m, q, ns;
+  PetscInt       *R, lo[3], hi[3], i[3], e, m, q, ns;
   PSSweepDirs     sw;
 
   PetscFunctionBeginUser;
@@ -404,8 +438,9 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   hi[d] += 1;
   PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
   for (e = 0, ns = 1; e < d; e++) ns *= hi[e] - lo[e]; /* faces in a slice (below) */
-  PetscCall(ScratchSize(C, 3 * ns * fs));
+  PetscCall(ScratchSize(C, 3 * ns, fs));
   F  = C->sF;
+  R  = C->sR;
   K  = C->sK;
   VB = C->sVB;
   VL = C->sVL;
@@ -471,24 +506,25 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
             /* the faces of slice lead */
             if (lead < hi[d]) {
               PetscReal *Fs = &F[(lead % 3) * ns * fs];
+              PetscInt  *Rs = &R[(lead % 3) * ns * 2];
               PetscInt   j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
-              PetscCall(PetscArrayzero(Fs, ns * fs));
               j[d] = lead;
               SliceRange(d, lo, hi, j, jl, jh);
               for (j[1] = jl[1]; j[1] < jh[1]; j[1]++)
-                for (j[0] = jl[0]; j[0] < jh[0]; j[0]++, n++) FaceFlux(S, ix, fr, dt, &sw, dim, j, &Fs[fs * n]);
+                for (j[0] = jl[0]; j[0] < jh[0]; j[0]++, n++) FaceFlux(S, ix, fr, dt, &sw, dim, j, &Fs[fs * n], &Rs[2 * n]);
             }
             /* the cells of slice c = lead - 2, between faces c and c + 1 */
             c = lead - 2;
             if (c >= lo[d] && c < hi[d] - 1) {
               const PetscReal *Fl = &F[(c % 3) * ns * fs], *Fh = &F[((c + 1) % 3) * ns * fs];
+              const PetscInt  *Rl = &R[(c % 3) * ns * 2], *Rh = &R[((c + 1) % 3) * ns * 2];
               PetscInt         j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
               j[d] = c;
               SliceRange(d, lo, hi, j, jl, jh);
               for (j[1] = jl[1]; j[1] < jh[1]; j[1]++)
                 for (j[0] = jl[0]; j[0] < jh[0]; j[0]++, n++) {
                   DualFlux(S, ix, &sw, dim, j, Fl[fs * n + fs - 1], Fh[fs * n + fs - 1], VL, Pn, K);
-                  if (j[0] >= C->cs[0] && j[1] >= C->cs[1] && j[2] >= C->cs[2]) CellUpdate(S, &sw, j, &Fl[fs * n], &Fh[fs * n]);
+                  if (j[0] >= C->cs[0] && j[1] >= C->cs[1] && j[2] >= C->cs[2]) CellUpdate(S, &sw, j, &Fl[fs * n], &Fh[fs * n], &Rl[2 * n], &Rh[2 * n]);
                 }
             }
           }
