@@ -74,6 +74,7 @@ typedef struct PSCells_ {
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance */
   PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
   PetscInt  *sR;
+  PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
   PetscInt  nsF;
   PetscReal *ec;                  /* per owned cell and material: the step's EOS values (closure.c) */
   PetscSF   sfd;                  /* its ghost sums (halo.c) */

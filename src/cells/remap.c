@@ -62,10 +62,10 @@ typedef struct {
   PetscReal *A;             /* np cumulative fractions per cell */
 } PSFractions;
 
-static PetscErrorCode FractionsBuild(const PSCells *C, PSFractions *fr)
+static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr)
 {
   const PetscInt dim = C->dim, nm = C->nmat, ms = C->ms;
-  PetscInt       i, j, k, e, m, ntot = 1;
+  PetscInt       i, j, k, e, m, q, ntot = 1;
 
   PetscFunctionBeginUser;
   fr->np = nm + 2;
@@ -78,13 +78,24 @@ static PetscErrorCode FractionsBuild(const PSCells *C, PSFractions *fr)
   fr->s[1] = fr->np * fr->n[0];
   fr->s[2] = fr->np * fr->n[0] * fr->n[1];
   if (!fr->A) PetscCall(PetscMalloc1(ntot * fr->np, &fr->A));
+  if (!C->sS) PetscCall(PetscMalloc1(C->ncl * (ms - 1), &C->sS));
   for (k = 0; k < fr->n[2]; k++)
     for (j = 0; j < fr->n[1]; j++)
       for (i = 0; i < fr->n[0]; i++) {
         /* the nearest cell of the ghosted box */
         const PetscInt   g[3] = {PetscMin(PetscMax(i + fr->o[0], C->gs[0]), C->gs[0] + C->gm[0] - 1), PetscMin(PetscMax(j + fr->o[1], C->gs[1]), C->gs[1] + C->gm[1] - 1), dim == 3 ? PetscMin(PetscMax(k + fr->o[2], C->gs[2]), C->gs[2] + C->gm[2] - 1) : 0};
-        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, g[0], g[1], g[2])], V = u[nm * ms + PS_CX_V];
+        const PetscInt   ci = PSCellIdx(C, g[0], g[1], g[2]), sole = C->sole[ci];
+        const PetscReal *u = &C->u[C->dof * ci], V = u[nm * ms + PS_CX_V];
         PetscReal       *a = &fr->A[i * fr->s[0] + j * fr->s[1] + k * fr->s[2]], acc;
+        /* a cell with one material with mass: its density and the advected
+           quantities per unit mass, which the faces around it read three
+           times a sweep (donor, and neighbour of each side's donor) */
+        if (sole >= 0) {
+          const PetscReal *blk = &u[sole * ms];
+          PetscReal       *sp  = &C->sS[(ms - 1) * ci];
+          sp[0] = blk[PS_CM] / blk[PS_CV];
+          for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
+        }
         acc  = PetscMin(u[nm * ms + PS_CX_AM] * C->Vc / V, 1.0);
         a[0] = acc;
         for (m = 0; m < nm; m++) {
@@ -243,14 +254,18 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   R[0] = m0;
   R[1] = PetscMax(m0, m1);
   for (m = m0; m < m1; m++) {
-    const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL};
+    const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL}, *spd, *spn[2] = {NULL, NULL};
     PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
     PetscBool        pure;
     if (vol[m] <= 0.0 || blk[PS_CM] <= 0.0) {
       for (q = 0; q < ms; q++) F[m * ms + q] = 0.0;
       continue;
     }
-    rho = blk[PS_CM] / blk[PS_CV];
+    /* the density and per-unit-mass values of the donor and its
+       neighbours: FractionsBuild's where the cell has m alone (the same
+       divisions), else here */
+    spd = C->sole[uc] == m ? &C->sS[(ms - 1) * uc] : NULL;
+    rho = spd ? spd[0] : blk[PS_CM] / blk[PS_CV];
     /* van Leer slopes where the donor and its neighbours along d are pure in m */
     pure = blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
     for (a = 0; a < 2 && pure; a++) {
@@ -259,18 +274,22 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
         pure = PETSC_FALSE;
         break;
       }
-      nb[a] = &C->u[dof * (uc + (a ? sw->cd : -sw->cd))];
+      nb[a]  = &C->u[dof * (uc + (a ? sw->cd : -sw->cd))];
+      spn[a] = C->sole[uc + (a ? sw->cd : -sw->cd)] == m ? &C->sS[(ms - 1) * (uc + (a ? sw->cd : -sw->cd))] : NULL;
       if (nb[a][m * ms + PS_CM] <= 0.0 || nb[a][m * ms + PS_CV] <= 0.999 * nb[a][nm * ms + PS_CX_V]) pure = PETSC_FALSE;
     }
     if (pure) {
-      const PetscReal r0 = nb[0][m * ms + PS_CM] / nb[0][m * ms + PS_CV], r1 = nb[1][m * ms + PS_CM] / nb[1][m * ms + PS_CV];
+      const PetscReal r0 = spn[0] ? spn[0][0] : nb[0][m * ms + PS_CM] / nb[0][m * ms + PS_CV], r1 = spn[1] ? spn[1][0] : nb[1][m * ms + PS_CM] / nb[1][m * ms + PS_CV];
       dM = PetscMin(PetscMax(vol[m] * (rho + off * VanLeer(rho - r0, r1 - rho)), 0.0), blk[PS_CM]);
     } else dM = PetscMin(vol[m] * rho, blk[PS_CM]);
     F[m * ms + PS_CV] = side * vol[m];
     F[m * ms + PS_CM] = side * dM;
     for (q = PS_CE; q < ms; q++) {
-      PetscReal s0 = blk[q] / blk[PS_CM];
-      if (pure) s0 += off * VanLeer(s0 - nb[0][m * ms + q] / nb[0][m * ms + PS_CM], nb[1][m * ms + q] / nb[1][m * ms + PS_CM] - s0);
+      PetscReal s0 = spd ? spd[q - PS_CE + 1] : blk[q] / blk[PS_CM];
+      if (pure) {
+        const PetscReal s1 = spn[0] ? spn[0][q - PS_CE + 1] : nb[0][m * ms + q] / nb[0][m * ms + PS_CM], s2 = spn[1] ? spn[1][q - PS_CE + 1] : nb[1][m * ms + q] / nb[1][m * ms + PS_CM];
+        s0 += off * VanLeer(s0 - s1, s2 - s0);
+      }
       F[m * ms + q] = side * dM * s0;
     }
     F[nm * ms + 1] += side * dM;
