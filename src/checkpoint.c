@@ -935,7 +935,7 @@ static PetscErrorCode Restart(PSSolver *S, const char filename[])
     PetscCall(PSHaloBcast(C->sfp, C->P));
     PetscCall(PSCellsExchange(C));
     PetscCall(PSGridIndex(S->da, &ix));
-    PetscCall(PSCellsNodalMass(S, &ix));
+    PetscCall(PSCellsNodalMass(S, &ix, PETSC_FALSE));
   }
   /* the contact's friction work: each rank its own on the same rank count, else all on rank 0 */
   if (S->contact) {

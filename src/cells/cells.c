@@ -201,23 +201,10 @@ static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
 /* the nodal masses m^C_i, with each ghosted cell's M_c and materials with
    mass (C->Mcell, C->sole: PSCellsCellMass) for the remap and the
    Lagrangian phases; every change of the cells' masses ends here (the fit,
-   insertion, restart) or in PSCellsNodalMassGhosts (the remap's sweeps) */
-PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix)
-{
-  PSCells *C = S->cells;
-  PetscInt i, j, k;
-
-  PetscFunctionBeginUser;
-  for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
-    for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++)
-      for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) PSCellsCellMass(C, PSCellIdx(C, i, j, k));
-  PetscCall(NodalMassGather(S, ix));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
-/* the same where the owned cells' M_c are already set (the remap's cell
-   update): the ghost cells' (just exchanged), then the nodes */
-PetscErrorCode PSCellsNodalMassGhosts(PSSolver *S, const PSIndex *ix)
+   insertion, restart, the remap's sweeps).  owned_set: the owned cells' M_c
+   are already set (the remap's cell update), so only the ghost cells' (just
+   exchanged) are taken */
+PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix, PetscBool owned_set)
 {
   PSCells *C = S->cells;
   PetscInt i, j, k;
@@ -226,7 +213,7 @@ PetscErrorCode PSCellsNodalMassGhosts(PSSolver *S, const PSIndex *ix)
   for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
     for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++)
       for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) {
-        if (i >= C->cs[0] && i < C->ce[0] && j >= C->cs[1] && j < C->ce[1] && k >= C->cs[2] && k < C->ce[2]) continue; /* owned */
+        if (owned_set && i >= C->cs[0] && i < C->ce[0] && j >= C->cs[1] && j < C->ce[1] && k >= C->cs[2] && k < C->ce[2]) continue;
         PSCellsCellMass(C, PSCellIdx(C, i, j, k));
       }
   PetscCall(NodalMassGather(S, ix));
@@ -329,7 +316,7 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
   PetscCall(PSHaloReduce(C->sfp, C->P));
   PetscCall(PSHaloBcast(C->sfp, C->P));
   PetscCall(PSCellsExchange(C));
-  PetscCall(PSCellsNodalMass(S, &ix));
+  PetscCall(PSCellsNodalMass(S, &ix, PETSC_FALSE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -73,7 +73,7 @@ typedef struct PSCells_ {
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance */
   PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
-  PetscInt  *sR;
+  PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
   PetscInt  nsF;
   PetscReal *ec;                  /* per owned cell and material: the step's EOS values (closure.c) */
@@ -180,8 +180,7 @@ PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *, PetscBool fit);
 PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);
 PETSC_INTERN PetscErrorCode PSCellsExchange(PSCells *);
-PETSC_INTERN PetscErrorCode PSCellsNodalMass(PSSolver *, const PSIndex *);
-PETSC_INTERN PetscErrorCode PSCellsNodalMassGhosts(PSSolver *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSCellsNodalMass(PSSolver *, const PSIndex *, PetscBool owned_set);
 PETSC_INTERN PetscErrorCode PSCellsPressure(const PSSolver *, PetscInt k, const PetscReal *blk, PetscReal *p, PetscReal *c);
 PETSC_INTERN PetscErrorCode PSCellsWrite(PSSolver *, PetscViewer, const char *const material_names[]);
 PETSC_INTERN PetscErrorCode PSCellsCheckpoint(PSSolver *, PetscViewer);

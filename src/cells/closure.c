@@ -400,7 +400,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
     if (!any) PetscFunctionReturn(PETSC_SUCCESS);
   }
   PetscCall(PSCellsExchange(C));
-  PetscCall(PSCellsNodalMass(S, &ix));
+  PetscCall(PSCellsNodalMass(S, &ix, PETSC_FALSE));
   if (fit) PetscCall(DiscardMomentum(S, &ix));
   PetscFunctionReturn(PETSC_SUCCESS);
 }

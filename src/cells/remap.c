@@ -227,7 +227,8 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   delta *= dt / (dim == 3 ? 4.0 : 2.0);
   F[nm * ms]     = delta * A;
   F[nm * ms + 1] = 0.0;
-  R[0] = R[1] = 0;
+  R[0] = nm; /* empty: [nm, 0), so the union of ranges is a min and a max */
+  R[1] = 0;
   if (delta == 0.0) return;
   /* the donor: the cell behind the face; none outside the domain (void enters) */
   c[0] = i[0];
@@ -249,10 +250,12 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     vol[s] = w * ud[nm * ms + PS_CX_V] / A * A;
     m0     = s;
   } else m0 = SlabVolumes(S, fr, fa, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
-  m1   = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
-  m0   = PetscMax(m0, 0);
-  R[0] = m0;
-  R[1] = PetscMax(m0, m1);
+  m1 = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
+  m0 = PetscMax(m0, 0);
+  if (m0 < m1) {
+    R[0] = m0;
+    R[1] = m1;
+  }
   for (m = m0; m < m1; m++) {
     const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL}, *spd, *spn[2] = {NULL, NULL};
     PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
@@ -264,7 +267,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     /* the density and per-unit-mass values of the donor and its
        neighbours: FractionsBuild's where the cell has m alone (the same
        divisions), else here */
-    spd = C->sole[uc] == m ? &C->sS[(ms - 1) * uc] : NULL;
+    spd = s == m ? &C->sS[(ms - 1) * uc] : NULL;
     rho = spd ? spd[0] : blk[PS_CM] / blk[PS_CV];
     /* van Leer slopes where the donor and its neighbours along d are pure in m */
     pure = blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
@@ -274,8 +277,9 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
         pure = PETSC_FALSE;
         break;
       }
-      nb[a]  = &C->u[dof * (uc + (a ? sw->cd : -sw->cd))];
-      spn[a] = C->sole[uc + (a ? sw->cd : -sw->cd)] == m ? &C->sS[(ms - 1) * (uc + (a ? sw->cd : -sw->cd))] : NULL;
+      const PetscInt un = uc + (a ? sw->cd : -sw->cd);
+      nb[a]  = &C->u[dof * un];
+      spn[a] = C->sole[un] == m ? &C->sS[(ms - 1) * un] : NULL;
       if (nb[a][m * ms + PS_CM] <= 0.0 || nb[a][m * ms + PS_CV] <= 0.999 * nb[a][nm * ms + PS_CX_V]) pure = PETSC_FALSE;
     }
     if (pure) {
@@ -388,10 +392,10 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
   PetscReal      *u = &C->u[C->dof * ci];
   PetscInt        m, q, f0, f1, m0, m1;
 
-  /* the materials fluxed: the union of the faces' ranges (the materials
-     between them take 0 - 0) */
-  f0 = rl[0] < rl[1] ? (rh[0] < rh[1] ? PetscMin(rl[0], rh[0]) : rl[0]) : rh[0];
-  f1 = rl[0] < rl[1] ? (rh[0] < rh[1] ? PetscMax(rl[1], rh[1]) : rl[1]) : rh[1];
+  /* the materials fluxed: the union of the faces' ranges (an empty one is
+     [nmat, 0); the materials between them take 0 - 0) */
+  f0 = PetscMin(rl[0], rh[0]);
+  f1 = PetscMax(rl[1], rh[1]);
   for (m = f0; m < f1; m++) {
     const PetscBool inl = m >= rl[0] && m < rl[1] ? PETSC_TRUE : PETSC_FALSE, inh = m >= rh[0] && m < rh[1] ? PETSC_TRUE : PETSC_FALSE;
     for (q = m * ms; q < (m + 1) * ms; q++) u[q] += (inl ? fl[q] : 0.0) - (inh ? fh[q] : 0.0);
@@ -399,9 +403,12 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
   u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
   /* with the materials that had mass before the sweep */
   PSCellsPresent(C, ci, &m0, &m1);
-  if (f0 < f1) {
-    m0 = m0 < m1 ? PetscMin(m0, f0) : f0;
+  if (m0 < m1) {
+    m0 = PetscMin(m0, f0);
     m1 = PetscMax(m1, f1);
+  } else {
+    m0 = f0;
+    m1 = f1;
   }
   for (m = m0; m < m1; m++) {
     /* a material absent from the cell before and after (all zero) has nothing to discard */
@@ -431,7 +438,7 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
       S->lost_local.mass += fh[m * ms + PS_CM];
       S->lost_local.internal += fh[m * ms + PS_CE];
     }
-  /* its mass for the nodes (PSCellsNodalMassGhosts; DualFlux has read the
+  /* its mass for the nodes (PSCellsNodalMass after the sweep; DualFlux has read the
      one before the sweep) */
   PSCellsCellMass(C, ci);
 }
@@ -553,7 +560,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   /* the cells' new state to the ghosts; the new nodal masses */
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
   PetscCall(PSCellsExchange(C));
-  PetscCall(PSCellsNodalMassGhosts(S, ix));
+  PetscCall(PSCellsNodalMass(S, ix, PETSC_TRUE)); /* the owned cells' masses: CellUpdate */
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_KE, 0, 0, 0, 0));
   /* the new nodal momentum on the owned nodes: its velocity kept within the
@@ -599,7 +606,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
         const PetscInt ci = PSCellIdx(C, i[0], i[1], i[2]), o0 = Node(ix, dim, i);
-        PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMassGhosts above) */
+        PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
         PetscInt       c, m0, m1;
         if (Mc <= 0.0) continue;
         for (c = 0; c < (1 << dim); c++) {
