@@ -51,8 +51,14 @@ ext = Extension(
     libraries=["petsc_real", "hdf5", "mpi"],
     # built on the machine that runs it (scripts/setup), so -march=native is safe;
     # -fno-math-errno: sqrt becomes one instruction, not a call kept for errno
-    # (nothing reads errno; every result is bitwise the same)
-    extra_compile_args=["-O3", "-march=native", "-fno-math-errno", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
+    # (nothing reads errno; every result is bitwise the same).  Python's own
+    # CFLAGS bring -fwrapv (signed overflow wraps: every int index is then
+    # sign-extended and re-derived in the loops) and -fstack-protector-strong
+    # (a canary checked at the return of every function with a local array);
+    # the C here relies on neither, and without both the cells' quadrants
+    # step takes 0.93-0.96x the time (side by side, median of 16 pairs; each
+    # alone about 0.99x), every result bitwise the same
+    extra_compile_args=["-O3", "-march=native", "-fno-math-errno", "-fno-wrapv", "-fno-stack-protector", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
     depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/step.h", "src/shape.h", "src/materials.h",
              "src/cells/cells.h", "src/cells/closure.h", "src/cells/plic.h"],
 )
