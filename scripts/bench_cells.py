@@ -24,7 +24,10 @@ the next).
 
     mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants] [-bench_n 256] [-bench_steps 100] [-bench_reps 3]
 
-The line BENCH cells_<case>_<n>_<ranks> <rate> is for scripts/bench's table.
+The line BENCH cells_<case>_<n>_<ranks> <rate> is for scripts/bench's table;
+so is BENCH cells_flux_ns_<case>_<n>_<ranks>: the remap's flux phase (event
+PSCellsFlux, the slowest rank) in ns per cell and sweep, which the table sets
+beside scripts/sweep_floor.c's stripped sweep of the pure case.
 """
 import sys
 
@@ -32,6 +35,7 @@ import petsc4py
 
 petsc4py.init(sys.argv)
 from petsc4py import PETSc  # noqa: E402
+from mpi4py import MPI  # noqa: E402
 
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
@@ -75,6 +79,9 @@ else:
                        representation="cells", pressure=1.0, velocity=v) for i in range(n + 1)]
     what, grid = f"uniform flow, {'one gas' if case == 'pure' else 'two gases in half-cell stripes, every cell mixed'}", Grid([0, 0], [1, 1], [n, n], walls)
 scene = Scene(2, grid, mats, bodies, Run(t_end=10.0, cfl=0.4)).validate()
+# the remap's flux phase per cell and sweep (its log event; scripts/bench sets
+# it beside the stripped sweep of scripts/sweep_floor.c)
+PETSc.Log.begin()
 best = None
 for _ in range(reps):
     m = core.initialize(scene)
@@ -88,3 +95,8 @@ if comm.getRank() == 0:
     print(f"cells benchmark ({what}, {n}^2 cells, {steps} steps, best of {reps} runs): {comm.getSize()} rank(s)")
     print(f"  {best:.3f} s: {rate / 1e6:.3f} M cell-updates/s/core, t = {S.time:.4f}")
     print(f"BENCH cells_{case}_{n}_{comm.getSize()} {rate:.6e}")
+flux = PETSc.Log.Event("PSCellsFlux").getPerfInfo()
+ns = mpi.allreduce(flux["time"], op=MPI.MAX) / max(flux["count"], 1) / (n * n / comm.getSize()) * 1e9
+if comm.getRank() == 0:
+    print(f"  the remap's flux phase: {ns:.1f} ns per cell and sweep ({flux['count']} sweeps)")
+    print(f"BENCH cells_flux_ns_{case}_{n}_{comm.getSize()} {ns:.6e}")

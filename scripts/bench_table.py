@@ -70,6 +70,10 @@ def main():
         rows.append((f"cells, mixed cell against pure ({n}^2, 1 rank)",
                      f"{b[f'cells_pure_{n}_1'] / 1e6:.3g} / {b[f'cells_mixed_{n}_1'] / 1e6:.3g} M/s" if f"cells_mixed_cost_{n}" in b else "-",
                      "cost ratio mixed / pure", f"{b[f'cells_mixed_cost_{n}']:.2f}" if f"cells_mixed_cost_{n}" in b else "-", "", ""))
+    # the pure case's flux phase against the same scheme's sweep stripped of generality (sweep_floor.c)
+    if "cells_flux_ns_pure_256_1" in b and "sweep_floor_ns_256" in b:
+        rows.append(("cells, remap flux phase, pure gas 256^2, 1 rank", f"{b['cells_flux_ns_pure_256_1']:.3g} ns/cell/sweep",
+                     f"stripped one-gas sweep, same run: {b['sweep_floor_ns_256']:.3g} ns", f"{b['cells_flux_ns_pure_256_1'] / b['sweep_floor_ns_256']:.2f}", "", ""))
     if "nocells_calls" in b:
         rows.append(("elastic block (no cells): cells' phases entered", f"{b['nocells_calls']:.0f} times", "", "", "0", "yes" if b["nocells_calls"] == 0 else "no"))
     # contact (multi-field) against bonded, the oblique plate
