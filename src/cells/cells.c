@@ -173,15 +173,33 @@ PetscErrorCode PSCellsExchange(PSCells *C)
 static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
 {
   PSCells        *C   = S->cells;
-  const PetscInt  dim = S->dim;
+  const PetscInt  dim = S->dim, nco = 1 << dim;
   const PetscReal w   = dim == 3 ? 0.125 : 0.25;
-  PetscInt        n[3], c[3], lo[3], hi[3], e;
+  PetscInt        n[3], c[3], lo[3], hi[3], e, a, off[8];
 
   PetscFunctionBeginUser;
+  /* a node's cells from its lower-left one, in the loop order below (x fastest) */
+  for (a = 0; a < nco; a++) off[a] = (a & 1) + ((a >> 1) & 1) * C->gm[0] + ((a >> 2) & 1) * C->gm[0] * C->gm[1];
   for (n[2] = ix->gs[2]; n[2] < ix->gs[2] + ix->gm[2]; n[2]++)
-    for (n[1] = ix->gs[1]; n[1] < ix->gs[1] + ix->gm[1]; n[1]++)
+    for (n[1] = ix->gs[1]; n[1] < ix->gs[1] + ix->gm[1]; n[1]++) {
+      /* the nodes of this row whose 2^dim cells are all in the ghosted cell
+         box (nearly all): the same sum without the clipping.  Physical node
+         n - PS_PAD has cells n - PS_PAD - 1 and n - PS_PAD along each direction */
+      PetscBool full = PETSC_TRUE;
+      PetscInt  x0, x1;
+      for (e = 1; e < dim; e++)
+        if (n[e] - PS_PAD - 1 < C->gs[e] || n[e] - PS_PAD > C->gs[e] + C->gm[e] - 1) full = PETSC_FALSE;
+      x0 = full ? PetscMax(C->gs[0] + PS_PAD + 1, ix->gs[0]) : ix->gs[0] + ix->gm[0];
+      x1 = full ? PetscMin(C->gs[0] + C->gm[0] - 1 + PS_PAD + 1, ix->gs[0] + ix->gm[0]) : ix->gs[0] + ix->gm[0];
       for (n[0] = ix->gs[0]; n[0] < ix->gs[0] + ix->gm[0]; n[0]++) {
         PetscReal mc = 0.0;
+        if (n[0] >= x0 && n[0] < x1) {
+          const PetscReal *Mcell = &C->Mcell[PSCellIdx(C, n[0] - PS_PAD - 1, n[1] - PS_PAD - 1, dim == 3 ? n[2] - PS_PAD - 1 : 0)];
+          for (a = 0; a < nco; a++)
+            if (Mcell[off[a]] != 0.0) mc += w * Mcell[off[a]];
+          C->mcn[Lidx(ix, n[0], n[1], n[2])] = mc;
+          continue;
+        }
         /* the cells with node n as a corner, clipped to the ghosted cell box */
         for (e = 0; e < 3; e++) {
           lo[e] = e < dim ? PetscMax(n[e] - PS_PAD - 1, C->gs[e]) : 0;
@@ -195,6 +213,7 @@ static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
             }
         C->mcn[Lidx(ix, n[0], n[1], n[2])] = mc;
       }
+    }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

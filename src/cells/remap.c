@@ -249,6 +249,26 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12) {
     vol[s] = w * ud[nm * ms + PS_CX_V] / A * A;
     m0     = s;
+    /* nearly every face of a single-material region: the donor and both its
+       neighbours along d hold material s alone and fill their volume.  The
+       loop below's arithmetic, in its order, on FractionsBuild's values, with
+       none of its tests */
+    if (c[d] > C->gs[d] && c[d] + 1 < C->gs[d] + C->gm[d] && C->sole[uc - sw->cd] == s && C->sole[uc + sw->cd] == s) {
+      const PetscReal *blk = &ud[s * ms], *n0 = &C->u[dof * (uc - sw->cd)], *n1 = &C->u[dof * (uc + sw->cd)];
+      if (vol[s] > 0.0 && blk[PS_CM] > 0.0 && blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] && n0[s * ms + PS_CV] > 0.999 * n0[nm * ms + PS_CX_V] && n1[s * ms + PS_CV] > 0.999 * n1[nm * ms + PS_CX_V]) {
+        const PetscReal *spd = &C->sS[(ms - 1) * uc], *sp0 = &C->sS[(ms - 1) * (uc - sw->cd)], *sp1 = &C->sS[(ms - 1) * (uc + sw->cd)];
+        const PetscReal  off = side * 0.5 * (1.0 - w), rho = spd[0];
+        const PetscReal  dM  = PetscMin(PetscMax(vol[s] * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
+        PetscReal       *Fm  = &F[s * ms];
+        Fm[PS_CV] = side * vol[s];
+        Fm[PS_CM] = side * dM;
+        for (q = 1; q < ms - 1; q++) Fm[q + 1] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
+        F[nm * ms + 1] += side * dM;
+        R[0] = s;
+        R[1] = s + 1;
+        return;
+      }
+    }
   } else m0 = SlabVolumes(S, fr, fa, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
   m1 = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
   m0 = PetscMax(m0, 0);
