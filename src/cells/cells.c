@@ -94,6 +94,8 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
     C->gs[d] = d < S->dim ? PetscMax(C->cs[d] - PS_CELL_GHOST, 0) : 0;
     C->gm[d] = (d < S->dim ? PetscMin(C->ce[d] + PS_CELL_GHOST, C->nc[d]) : 1) - C->gs[d];
     C->ncl *= C->gm[d];
+    C->xs[d] = d < S->dim ? PetscMax(C->cs[d] - 1, 0) : 0; /* (PSCellsXIdx) */
+    C->xm[d] = C->ce[d] - C->xs[d];
     PetscCall(CellRanges(S, d, C->nc[d], &lc[d]));
   }
   PetscCall(PetscCalloc1(C->ncl * C->dof, &C->u));
@@ -123,9 +125,9 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PetscMalloc1(C->ncl, &C->sole));
   CornersBuild(S, C, &ix, &C->K);
   {
-    PetscInt nown = 1;
-    for (d = 0; d < 3; d++) nown *= C->ce[d] - C->cs[d];
-    PetscCall(PetscMalloc3(PetscMax(1, nown * PSCellsHalfSize(C)), &C->hs, nn * S->dim, &C->vo, nn * S->dim, &C->df)); /* the predictor's (lagrange.c) */
+    PetscInt nx = 1;
+    for (d = 0; d < 3; d++) nx *= C->xm[d];
+    PetscCall(PetscMalloc3(PetscMax(1, nx * PSCellsHalfSize(C)), &C->hs, nn * S->dim, &C->vo, nn * S->dim, &C->df)); /* the predictor's (lagrange.c) */
   }
   PetscCall(PSHaloCreate(S, S->dim, &C->sfp));
   S->cells = C;
@@ -283,7 +285,7 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
     const PSMaterial *M;
     PSRegion          reg, sub[PS_MAX_SUB];
     PetscReal         blo[3], bhi[3], A, Bc, c2, e0;
-    PetscInt          bcs[3], bce[3], nsub = 0, o;
+    PetscInt          bcs[3], bce[3], nsub = 0, o, own;
     if (B->cellmat < 0) continue;
     M = &S->mat[C->mat[B->cellmat]];
     /* e0 from the initial pressure at the initial density (J = 1) */
@@ -292,8 +294,11 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
     e0 = Bc > 0.0 ? (B->pressure - A) / Bc : 0.0;
     PetscCall(PSBodyBoundingBox(scene, b, blo, bhi));
     PSCellRange(scene, blo, bhi, bcs, bce);
+    /* the cells around the owned nodes: the owned ones take their part of
+       the body, the owned nodes the momentum of all of theirs (in the order
+       one rank takes it: PSCellsXIdx) */
     for (d = 0; d < 3; d++) {
-      bcs[d] = PetscMax(bcs[d], C->cs[d]);
+      bcs[d] = PetscMax(bcs[d], C->xs[d]);
       bce[d] = PetscMin(bce[d], C->ce[d]);
     }
     if (bcs[0] >= bce[0] || bcs[1] >= bce[1] || bcs[2] >= bce[2]) continue;
@@ -313,26 +318,29 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
           if (PSRegionClassify(dim, &reg, lo, hi) == PS_OUT) continue;
           PSPieceMoments(dim, lo, hi, 1, &reg, nsub, sub, m);
           if (m[0] <= 1e-14 * C->Vc) continue;
-          blk = &C->u[C->dof * PSCellIdx(C, i, j, k) + B->cellmat * C->ms];
-          dm  = M->rho0 * m[0];
-          blk[PS_CV] += m[0];
-          blk[PS_CM] += dm;
-          blk[PS_CE] += dm * e0;
-          if (C->nq) {
-            blk[PS_CQ + C->ns] += dm * B->plastic_strain; /* M eps_p */
-            blk[PS_CQ + C->ns + 1] += dm * M->T_room;     /* M T; no deviator */
+          dm = M->rho0 * m[0];
+          if (i >= C->cs[0] && j >= C->cs[1] && k >= C->cs[2]) {
+            blk = &C->u[C->dof * PSCellIdx(C, i, j, k) + B->cellmat * C->ms];
+            blk[PS_CV] += m[0];
+            blk[PS_CM] += dm;
+            blk[PS_CE] += dm * e0;
+            if (C->nq) {
+              blk[PS_CQ + C->ns] += dm * B->plastic_strain; /* M eps_p */
+              blk[PS_CQ + C->ns + 1] += dm * M->T_room;     /* M T; no deviator */
+            }
           }
-          /* the body's velocity: M v / 2^dim to each corner */
+          /* the body's velocity: M v / 2^dim to each owned corner */
+          own = PSCellsOwnedCorners(&ix, dim, i, j, k);
           for (c = 0; c < nz; c++)
             for (bb = 0; bb < 2; bb++)
               for (a = 0; a < 2; a++) {
                 const PetscInt o2 = Lidx(&ix, i + PS_PAD + a, j + PS_PAD + bb, dim == 3 ? k + PS_PAD + c : 0);
+                if (!((own >> (a + 2 * bb + 4 * c)) & 1)) continue;
                 for (d = 0; d < dim; d++) C->P[dim * o2 + d] += dm * B->velocity[d] / (dim == 3 ? 8.0 : 4.0);
               }
         }
   }
-  /* corners on other ranks: sums to the owners, then back */
-  PetscCall(PSHaloReduce(C->sfp, C->P));
+  /* the owners' sums to the ghosts */
   PetscCall(PSHaloBcast(C->sfp, C->P));
   PetscCall(PSCellsExchange(C));
   PetscCall(PSCellsNodalMass(S, &ix, PETSC_FALSE));

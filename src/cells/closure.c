@@ -51,10 +51,11 @@ static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* Each owned cell's materials' pressure, sound speed and compliance
-   (ec[PS_EC * (cell * nmat + m) + ...], cell counted over the owned box, x
-   fastest), once per step before the cells' P2G: the state does not change
-   until the Lagrangian phase has used them. */
+/* The materials' pressure, sound speed and compliance of each cell around
+   the owned nodes (ec[PS_EC * (PSCellsXIdx * nmat + m) + ...]: the owned
+   cells and the ghost layer whose forces reach owned nodes), once per step
+   before the cells' P2G: the state does not change until the Lagrangian
+   phase has used them. */
 PetscErrorCode PSCellsEOSCache(PSSolver *S)
 {
   PSCells *C = S->cells;
@@ -62,13 +63,14 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
 
   PetscFunctionBeginUser;
   if (!C->ec) {
-    PetscInt nown = 1, d;
-    for (d = 0; d < 3; d++) nown *= C->ce[d] - C->cs[d];
-    PetscCall(PetscMalloc1(PetscMax(1, nown * C->nmat * PS_EC), &C->ec));
+    PetscInt nx = 1, d;
+    for (d = 0; d < 3; d++) nx *= C->xm[d];
+    PetscCall(PetscMalloc1(PetscMax(1, nx * C->nmat * PS_EC), &C->ec));
   }
-  for (k = C->cs[2]; k < C->ce[2]; k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+  /* the cells around the owned nodes (PSCellsXIdx): their forces on them */
+  for (k = C->xs[2]; k < C->ce[2]; k++)
+    for (j = C->xs[1]; j < C->ce[1]; j++)
+      for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         PetscInt         m0, m1;

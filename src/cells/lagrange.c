@@ -120,13 +120,15 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
      here and the predictor's read it (each corner divided once per step) */
   for (o = 0; o < C->nnl; o++)
     for (d = 0; d < dim; d++) C->Pn[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
-  for (k = C->cs[2]; k < C->ce[2]; k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+  /* every cell around the owned nodes, to its owned corners (PSCellsXIdx:
+     each node's sum in one order on any number of ranks) */
+  for (k = C->xs[2]; k < C->ce[2]; k++)
+    for (j = C->xs[1]; j < C->ce[1]; j++)
+      for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        const PetscInt   oc = CellNode(ix, dim, i, j, k);
+        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = PSCellsOwnedCorners(ix, dim, i, j, k);
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
         PetscInt         m0, m1;
         PSCellsPresent(C, ci, &m0, &m1);
@@ -158,6 +160,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         kap = HourglassKappa(&C->K, Mc, cmax);
         for (a = 0; a < nco; a++) {
           PetscReal *gn = &g[dof * (oc + C->K.off[a])];
+          if (!((own >> a) & 1)) continue;
           gn[0] += Mc / nco;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
@@ -310,14 +313,16 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
       C->vh[dim * o + d] = 0.5 * (C->vo[dim * o + d] + vs);
     }
   PetscCall(PetscArrayzero(C->df, C->nnl * dim));
-  for (k = C->cs[2]; k < C->ce[2]; k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+  /* every cell around the owned nodes (PSCellsXIdx), its force change to
+     its owned corners */
+  for (k = C->xs[2]; k < C->ce[2]; k++)
+    for (j = C->xs[1]; j < C->ce[1]; j++)
+      for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
         PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * PSCellsHalfMat(C)], *gh = qh + 1;
-        const PetscInt   oc = CellNode(ix, dim, i, j, k);
+        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = PSCellsOwnedCorners(ix, dim, i, j, k);
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
         PSCellsPresent(C, ci, &m0, &m1);
@@ -379,6 +384,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         /* the force change at the corners */
         for (a = 0; a < nco; a++) {
           PetscReal *dfa = &C->df[dim * (oc + C->K.off[a])];
+          if (!((own >> a) & 1)) continue;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
             for (e = 0; e < dim; e++) fd -= dsig[d][e] * C->K.gN[a][e];
@@ -387,11 +393,9 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           }
         }
       }
-  /* the corrector on the owned nodes: v^{n+1} = v* + dt df/m, the boundary
-     conditions, musl's dv = v^{n+1} - v^n; then the ghosts */
-  PetscCall(PetscLogEventEnd(EV_Pred, 0, 0, 0, 0));
-  PetscCall(PSHaloReduce(C->sfp, C->df));
-  PetscCall(PetscLogEventBegin(EV_Pred, 0, 0, 0, 0));
+  /* the corrector on the owned nodes (their df whole: above): v^{n+1} = v* +
+     dt df/m, the boundary conditions, musl's dv = v^{n+1} - v^n; then the
+     ghosts */
   Clip(S->zbox, ix->os, ix->om, lo, hi);
   for (k = lo[2]; k < hi[2]; k++)
     for (j = lo[1]; j < hi[1]; j++)
@@ -439,7 +443,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
   const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1;
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
-  PetscInt        i, j, k, m, d, o, n = 0;
+  PetscInt        i, j, k, m, d, o;
 
   PetscFunctionBeginUser;
   if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
@@ -462,8 +466,8 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
       }
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
-        const PetscInt   ci = PSCellIdx(C, i, j, k);
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
+        const PetscInt   ci = PSCellIdx(C, i, j, k), n = PSCellsXIdx(C, i, j, k);
         PetscReal       *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
         const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * PSCellsHalfMat(C)]; /* the predictor's half-step values; q^h */
@@ -557,7 +561,7 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
 {
   PSCells  *C = S->cells;
   PSIndex   ix;
-  PetscInt  i, j, k, a, d, n = 0;
+  PetscInt  i, j, k, a, d;
   PetscReal smax = 0.0;
 
   PetscFunctionBeginUser;
@@ -565,9 +569,9 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
   PetscCall(PSCellsEOSCache(S));
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
+      for (i = C->cs[0]; i < C->ce[0]; i++) {
         PetscReal Mc, Vm, cmax, vmax = 0.0;
-        CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * n * C->nmat], 0, C->nmat, &Mc, &Vm, &cmax);
+        CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * PSCellsXIdx(C, i, j, k) * C->nmat], 0, C->nmat, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         for (a = 0; a < C->K.nco; a++) {
           const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + C->K.off[a];
