@@ -412,6 +412,29 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
   PetscReal      *u = &C->u[C->dof * ci];
   PetscInt        m, q, f0, f1, m0, m1;
 
+  /* nearly every cell of a single-material region: it holds material s
+     alone, and both faces carry s alone, inside the domain along d.  The
+     general path's arithmetic below, in its order, without its ranges: the
+     other materials hold and take nothing (zero: PSCellsPresent), so the
+     cell's mass is s's and s the one with mass unless it is discarded */
+  m = C->sole[ci];
+  if (m >= 0 && rl[0] == m && rl[1] == m + 1 && rh[0] == m && rh[1] == m + 1 && i[d] > 0 && i[d] + 1 < C->nc[d]) {
+    PetscReal *b = &u[m * ms];
+    for (q = 0; q < ms; q++) b[q] += fl[m * ms + q] - fh[m * ms + q];
+    u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
+    if (b[PS_CM] <= 0.0 || b[PS_CV] <= PS_DISCARD * C->Vc || b[PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * b[PS_CV]) {
+      for (q = 0; q < ms && b[q] == 0.0; q++) {}
+      if (q < ms) { /* (as below) */
+        S->lost_local.mass += b[PS_CM];
+        S->lost_local.internal += b[PS_CE];
+        C->discarded += b[PS_CM];
+        for (q = 0; q < ms; q++) b[q] = 0.0;
+      }
+    }
+    C->Mcell[ci] = b[PS_CM]; /* (PSCellsCellMass's sum: the others add zeros) */
+    C->sole[ci]  = (signed char)(b[PS_CM] > 0.0 ? m : PS_CELL_EMPTY);
+    return;
+  }
   /* the materials fluxed: the union of the faces' ranges (an empty one is
      [nmat, 0); the materials between them take 0 - 0) */
   f0 = PetscMin(rl[0], rh[0]);
