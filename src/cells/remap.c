@@ -399,6 +399,26 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
     }
 }
 
+/* material m's block b of cell after its update: traces below PS_DISCARD of
+   the cell (a round-off residue, or what a face flux leaves behind against a
+   marker body) are discarded, as CTH does, their mass and internal energy
+   booked as lost; so is a volume with next to no mass (below PS_RHO_MIN of
+   the reference density: a face flux's volume outran its mass), which the
+   next compression would heat without bound, q dV / M_k.  A block all zero
+   (the material absent before and after) has nothing to discard */
+static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
+{
+  PSCells *C = S->cells;
+  PetscInt q;
+  if (!(b[PS_CM] <= 0.0 || b[PS_CV] <= PS_DISCARD * C->Vc || b[PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * b[PS_CV])) return;
+  for (q = 0; q < C->ms && b[q] == 0.0; q++) {}
+  if (q == C->ms) return;
+  S->lost_local.mass += b[PS_CM];
+  S->lost_local.internal += b[PS_CE];
+  C->discarded += b[PS_CM];
+  for (q = 0; q < C->ms; q++) b[q] = 0.0;
+}
+
 /* an owned cell's update from its faces' fluxes fl (lower) and fh (upper),
    which hold the materials [rl[0], rl[1]) and [rh[0], rh[1]): in through the
    lower face, out through the upper.  Materials in neither range are not
@@ -422,15 +442,7 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
     PetscReal *b = &u[m * ms];
     for (q = 0; q < ms; q++) b[q] += fl[m * ms + q] - fh[m * ms + q];
     u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
-    if (b[PS_CM] <= 0.0 || b[PS_CV] <= PS_DISCARD * C->Vc || b[PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * b[PS_CV]) {
-      for (q = 0; q < ms && b[q] == 0.0; q++) {}
-      if (q < ms) { /* (as below) */
-        S->lost_local.mass += b[PS_CM];
-        S->lost_local.internal += b[PS_CE];
-        C->discarded += b[PS_CM];
-        for (q = 0; q < ms; q++) b[q] = 0.0;
-      }
-    }
+    DiscardTrace(S, m, b);
     C->Mcell[ci] = b[PS_CM]; /* (PSCellsCellMass's sum: the others add zeros) */
     C->sole[ci]  = (signed char)(b[PS_CM] > 0.0 ? m : PS_CELL_EMPTY);
     return;
@@ -453,23 +465,7 @@ static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt
     m0 = f0;
     m1 = f1;
   }
-  for (m = m0; m < m1; m++) {
-    /* a material absent from the cell before and after (all zero) has nothing to discard */
-    for (q = 0; q < ms && u[m * ms + q] == 0.0; q++) {}
-    if (q == ms) continue;
-    /* traces below PS_DISCARD of the cell (a round-off residue, or what a
-       face flux leaves behind against a marker body) are discarded, as CTH
-       does, their mass and internal energy booked as lost; so is a volume
-       with next to no mass (below PS_RHO_MIN of the reference density: a face
-       flux's volume outran its mass), which the next compression would heat
-       without bound, q dV / M_k */
-    if (u[m * ms + PS_CM] <= 0.0 || u[m * ms + PS_CV] <= PS_DISCARD * C->Vc || u[m * ms + PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * u[m * ms + PS_CV]) {
-      S->lost_local.mass += u[m * ms + PS_CM];
-      S->lost_local.internal += u[m * ms + PS_CE];
-      C->discarded += u[m * ms + PS_CM];
-      for (q = 0; q < ms; q++) u[m * ms + q] = 0.0;
-    }
-  }
+  for (m = m0; m < m1; m++) DiscardTrace(S, m, &u[m * ms]);
   /* outflow through free faces of the domain */
   if (i[d] == 0 && fl[fs - 1] < 0.0)
     for (m = rl[0]; m < rl[1]; m++) {
