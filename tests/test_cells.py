@@ -386,7 +386,7 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim):
     moving air, every cell and node equal after 40 (2D) or 20 (3D) steps.
     Before, the ranks' partial sums were added at their boundary: the 3D
     charge's state drifted by round-off from the first step, and by 3% of a
-    cell's viscosity at step 10."""
+    field's largest value at step 10."""
     from petsc4py import PETSc
     h = 1e-3
     n = [40, 24] if dim == 2 else [14, 12, 10]

@@ -147,7 +147,7 @@ static inline PetscInt PSCellIdx(const PSCells *C, PetscInt i, PetscInt j, Petsc
    node's cells in the order of the cell array, as on one rank: so they are
    the same, bitwise, on any number of ranks (a ghost sum of partial sums
    added them in another order: two gases on 2 ranks drifted from the run on
-   1 by round-off that grew to 3% of a cell's viscosity within 10 steps).
+   1 by round-off that grew to 3% of a field's largest value within 10 steps).
    The index of cell (i, j, k) among them, for the per-cell arrays of the
    Lagrangian phase (C->ec, C->hs) */
 static inline PetscInt PSCellsXIdx(const PSCells *C, PetscInt i, PetscInt j, PetscInt k)
