@@ -117,7 +117,9 @@ PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec, PetscInt m
   return sc > 0.0 ? sp / sc : 0.0;
 }
 
-PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
+/* the general case of PSCellsShareVolume (closure.h), which takes a cell with
+   one material and no void itself */
+PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
 {
   const PSCells  *C  = S->cells;
   const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
