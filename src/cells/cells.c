@@ -241,29 +241,6 @@ PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix, PetscBool owned_
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* pressure p (Pa) and sound speed c (m/s) of cell material k from its block
-   (V, M, E, ...): p = A + B e at rho = M / V, c^2 from the EOS and 4G/3rho */
-PetscErrorCode PSCellsPressure(const PSSolver *S, PetscInt k, const PetscReal *blk, PetscReal *p, PetscReal *c)
-{
-  const PSMaterial *M = &S->mat[S->cells->mat[k]];
-  PetscReal         J, A, B, c2, e;
-
-  PetscFunctionBeginUser;
-  if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
-    *p = 0.0;
-    *c = 0.0;
-    PetscFunctionReturn(PETSC_SUCCESS);
-  }
-  J = M->rho0 * blk[PS_CV] / blk[PS_CM];
-  e = blk[PS_CE] / blk[PS_CM];
-  PetscCall(PSCellsEOS(M, J, 0.0, 0.0, &A, &B, &c2));
-  *p = A + B * e;
-  if (M->spall < 0.0 && *p < M->spall) *p = 0.0;
-  PetscCall(PSCellsEOS(M, J, *p, 0.0, &A, &B, &c2)); /* c^2 of the ideal gas needs p */
-  *c = PetscSqrtReal(PetscMax(c2, 0.0) + 4.0 * M->G * J / (3.0 * M->rho0));
-  PetscFunctionReturn(PETSC_SUCCESS);
-}
-
 /* Exact insertion of the bodies in cells (see the top of the file), then
    the ghosts and nodal masses. */
 PetscErrorCode PSCellsInsert(PSSolver *S)

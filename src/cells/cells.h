@@ -201,6 +201,29 @@ static inline PetscErrorCode PSCellsEOS(const PSMaterial *M, PetscReal J, PetscR
   return M->eos_fn(M, J, p_old, dvol, A, B, c2);
 }
 
+/* pressure p (Pa) and sound speed c (m/s) of cell material k from its block
+   (V, M, E, ...): p = A + B e at rho = M / V, c^2 from the EOS and 4G/3rho.
+   Inline: the EOS cache calls it per cell and material every step */
+static inline PetscErrorCode PSCellsPressure(const PSSolver *S, PetscInt k, const PetscReal *blk, PetscReal *p, PetscReal *c)
+{
+  const PSMaterial *M = &S->mat[S->cells->mat[k]];
+  PetscReal         J, A, B, c2, e;
+
+  if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
+    *p = 0.0;
+    *c = 0.0;
+    return PETSC_SUCCESS;
+  }
+  J = M->rho0 * blk[PS_CV] / blk[PS_CM];
+  e = blk[PS_CE] / blk[PS_CM];
+  PetscCall(PSCellsEOS(M, J, 0.0, 0.0, &A, &B, &c2));
+  *p = A + B * e;
+  if (M->spall < 0.0 && *p < M->spall) *p = 0.0;
+  PetscCall(PSCellsEOS(M, J, *p, 0.0, &A, &B, &c2)); /* c^2 of the ideal gas needs p */
+  *c = PetscSqrtReal(PetscMax(c2, 0.0) + 4.0 * M->G * J / (3.0 * M->rho0));
+  return PETSC_SUCCESS;
+}
+
 PETSC_INTERN PetscErrorCode PSCellsCreate(PSSolver *, const PSMaterial *);
 PETSC_INTERN PetscErrorCode PSCellsDestroy(PSCells **);
 PETSC_INTERN PetscErrorCode PSCellsInsert(PSSolver *);
@@ -213,7 +236,6 @@ PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);
 PETSC_INTERN PetscErrorCode PSCellsExchange(PSCells *);
 PETSC_INTERN PetscErrorCode PSCellsNodalMass(PSSolver *, const PSIndex *, PetscBool owned_set);
-PETSC_INTERN PetscErrorCode PSCellsPressure(const PSSolver *, PetscInt k, const PetscReal *blk, PetscReal *p, PetscReal *c);
 PETSC_INTERN PetscErrorCode PSCellsWrite(PSSolver *, PetscViewer, const char *const material_names[]);
 PETSC_INTERN PetscErrorCode PSCellsCheckpoint(PSSolver *, PetscViewer);
 PETSC_INTERN PetscErrorCode PSCellsRestart(PSSolver *, PetscViewer);
