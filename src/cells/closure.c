@@ -3,7 +3,7 @@
 
   A cell holds cell materials k (V_k), the markers' volume V_M and void
   V_0 = V_c - sum V_k - V_M.  Its box changes volume by dV in the Lagrangian
-  phase; PSCellsShareVolume decides each material's dV_k in two parts:
+  phase; PSCellsShareVolume (closure.h) decides each material's dV_k in two parts:
 
   1. the change itself.  Void closes first (a compression is taken by void
      while there is any) and takes an expansion where there is void worth
@@ -39,15 +39,6 @@
 #include "../contact.h"
 
 #define PS_CROWD 1e-3 /* cell materials below this fraction of a cell the markers crowd out are discarded */
-/* void below this fraction of a cell is a trace (what a discarded trace of
-   material, or round-off, leaves): it takes no share of an expansion, which
-   goes to the materials by compliance; the relaxation still fills it, a
-   free expansion at p* = 0.  Where a trace took the expansion (from 1e-12
-   of the cell) while the nodal force, the materials' pressure, did its
-   work, energy was made from nothing: +0.5% of a 3D charge of a gas of its
-   own in air in 30 steps (now 2e-8, with the discarded traces booked) */
-#define PS_VOID_TRACE 1e-4
-
 /* bulk compliance chi = V / K (m^3/Pa) of a material block and its pressure */
 static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal *blk, PetscReal *chi, PetscReal *p)
 {
@@ -123,7 +114,7 @@ PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, 
 {
   const PSCells  *C  = S->cells;
   const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
-  PetscReal       chi[PS_MAX_CELLMAT], p[PS_MAX_CELLMAT], Vm = 0.0, sumchi = 0.0, V0, rest = dV, theta = 1.0, pstar = 0.0, sumd = 0.0;
+  PetscReal       chi[PS_MAX_CELLMAT], p[PS_MAX_CELLMAT], Vm = 0.0, sumchi = 0.0, V0, rest, theta = 1.0, pstar = 0.0, sumd = 0.0;
   PetscInt        m, n = 0;
   PetscBool       hasvoid;
 
@@ -142,23 +133,11 @@ PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, 
   }
   if (!n) PetscFunctionReturn(PETSC_SUCCESS);
   V0 = PetscMax(C->Vc - Vm - VM, 0.0);
-  /* 1. void takes a compression first, and an expansion where there is any
-     (a sliver of metal in a void cell must not be stretched by the cell's
-     whole growth); the rest by compliance */
-  if (dV < 0.0) {
-    const PetscReal take = PetscMin(-dV, V0);
-    rest += take;
-    V0 -= take;
-  } else if (V0 > PS_VOID_TRACE * C->Vc) {
-    V0 += dV;
-    rest = 0.0;
-  }
-  /* (a material gives up at most half its volume in one step: a trace of gas
-     against a stiff marker would otherwise be asked for more than it has; the
-     markers' part takes the rest) */
-  for (m = m0; m < m1; m++) dVk[m] = sumchi > 0.0 ? PetscMax(rest * chi[m] / (sumchi + chiM), -0.5 * u[m * C->ms + PS_CV]) : 0.0;
+  /* 1. void first, the rest by compliance (closure.h) */
+  rest = PSCellsVoidShare(C, dV, &V0);
+  for (m = m0; m < m1; m++) dVk[m] = PSCellsMaterialShare(rest, chi[m], sumchi, chiM, u[m * C->ms + PS_CV]);
   /* 2. relaxation toward p* (p* = 0 with void) */
-  hasvoid = V0 > 1e-12 * C->Vc ? PETSC_TRUE : PETSC_FALSE;
+  hasvoid = V0 > PS_VOID_ROUNDOFF * C->Vc ? PETSC_TRUE : PETSC_FALSE;
   if (!hasvoid) {
     if (n < 2) PetscFunctionReturn(PETSC_SUCCESS);
     for (m = m0; m < m1; m++)
