@@ -214,6 +214,15 @@ static inline PetscErrorCode PSCellsPressure(const PSSolver *S, PetscInt k, cons
     *c = 0.0;
     return PETSC_SUCCESS;
   }
+  if (M->eos_fn == PSEOSIdealGas && M->G == 0.0) {
+    /* the ideal gas from the block's sums, two divisions instead of six:
+       p = (gamma - 1) E / V, c^2 = gamma p V / M (the same values as below
+       to round-off) */
+    *p = (M->gamma - 1.0) * blk[PS_CE] / blk[PS_CV];
+    if (M->spall < 0.0 && *p < M->spall) *p = 0.0;
+    *c = PetscSqrtReal(M->gamma * PetscMax(*p, 0.0) * blk[PS_CV] / blk[PS_CM]);
+    return PETSC_SUCCESS;
+  }
   J = M->rho0 * blk[PS_CV] / blk[PS_CM];
   e = blk[PS_CE] / blk[PS_CM];
   PetscCall(PSCellsEOS(M, J, 0.0, 0.0, &A, &B, &c2));

@@ -340,9 +340,18 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           for (e = 0; e < PSCellsHalfMat(C); e++) pk[e] = 0.0; /* (only the materials with mass read it: the Lagrangian phase) */
           if (blk[PS_CM] <= 0.0) continue;
           V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
-          J  = M->rho0 * V1 / blk[PS_CM];
-          PetscCall(PSCellsEOS(M, J, ec[PS_EC * m], (V1 - blk[PS_CV]) / blk[PS_CV], &A, &B, &c2));
-          PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, u[C->nmat * C->ms + PS_CX_Q], &e1, &pk[0]);
+          if (M->eos_fn == PSEOSIdealGas && M->spall >= 0.0) {
+            /* the ideal gas (A = 0, B = (gamma - 1) M / V1): PSPressureEnergy's
+               update multiplied through by M_k, E1 = (E - dV (p0/2 + q)) /
+               (1 + (gamma - 1) dV / (2 V1)), p = (gamma - 1) E1 / V1: two
+               divisions instead of seven (the same values to round-off) */
+            const PetscReal dV = V1 - blk[PS_CV], iV1 = 1.0 / V1;
+            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + u[C->nmat * C->ms + PS_CX_Q])) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
+          } else {
+            J = M->rho0 * V1 / blk[PS_CM];
+            PetscCall(PSCellsEOS(M, J, ec[PS_EC * m], (V1 - blk[PS_CV]) / blk[PS_CV], &A, &B, &c2));
+            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, u[C->nmat * C->ms + PS_CX_Q], &e1, &pk[0]);
+          }
           if (M->gamma > 0.0) pk[0] = PetscMax(pk[0], 0.0); /* an ideal gas holds no tension */
           Vh += V1;
           sc += ec[PS_EC * m + 2];
@@ -506,7 +515,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
           const PSMaterial *M   = &S->mat[C->mat[m]];
           PetscReal        *blk = &u[m * C->ms];
           const PetscReal  *pk  = &hs[m * PSCellsHalfMat(C)], *sk = pk + 1;
-          PetscReal         wdev = 0.0, wh = 0.0, V1, e1;
+          PetscReal         wdev = 0.0, wh = 0.0, V1, E1;
           if (blk[PS_CM] <= 0.0) continue;
           V1 = blk[PS_CV] + dVk[m];
           PetscCheck(V1 > 0.0, PETSC_COMM_SELF, PETSC_ERR_NOT_CONVERGED, "cell (%" PetscInt_FMT ", %" PetscInt_FMT ", %" PetscInt_FMT ") material %" PetscInt_FMT " would reach volume %g <= 0 at step %" PetscInt_FMT ", t = %g s: lower run.cfl or refine the grid",
@@ -522,20 +531,20 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
               for (e = 0; e < 3; e++) wh += Sh[a][e] * L[a][e];
             wh *= blk[PS_CV] * dt;
           }
-          /* e1 = e0 + (hourglass heat by mass share + deviatoric work - (p_k^h +
-             q^h) (dV_k - dVr_k) - (p* + q^h) dVr_k) / M_k: the work the
+          /* E1 = E0 + hourglass heat by mass share + deviatoric work - (p_k^h +
+             q^h) (dV_k - dVr_k) - (p* + q^h) dVr_k (E = M_k e): the work the
              half-step force did on v^{n+1/2}, and the relaxation's exchange
              at the one pressure p* (closure.c) */
-          e1 = (blk[PS_CE] + hgw * blk[PS_CM] / Mc + wh - (pk[0] + qh) * (dVk[m] - dVr[m]) - (pr + qh) * dVr[m]) / blk[PS_CM];
+          E1 = blk[PS_CE] + hgw * blk[PS_CM] / Mc + wh - (pk[0] + qh) * (dVk[m] - dVr[m]) - (pr + qh) * dVr[m];
           /* an ideal gas holds no negative energy: a trace the closure expands
              several-fold in one step would reach e < 0 (p < 0, no sound
              speed); it is set to 0 and what that adds booked (a negative loss) */
-          if (M->gamma > 0.0 && e1 < 0.0) {
-            S->lost_local.internal += blk[PS_CM] * e1;
-            e1 = 0.0;
+          if (M->gamma > 0.0 && E1 < 0.0) {
+            S->lost_local.internal += E1;
+            E1 = 0.0;
           }
           blk[PS_CV] = V1;
-          blk[PS_CE] = blk[PS_CM] * e1;
+          blk[PS_CE] = E1;
         }
         /* the viscous term q/(rho c) (as the markers'), with c kept at least
            sqrt(q/rho)/2 so a cold gas (c -> 0) does not stop the run: for

@@ -96,10 +96,12 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr)
           sp[0] = blk[PS_CM] / blk[PS_CV];
           for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
         }
-        acc  = PetscMin(u[nm * ms + PS_CX_AM] * C->Vc / V, 1.0);
+        /* (one division per cell, not one per participant) */
+        const PetscReal iV = 1.0 / V;
+        acc  = PetscMin(u[nm * ms + PS_CX_AM] * C->Vc * iV, 1.0);
         a[0] = acc;
         for (m = 0; m < nm; m++) {
-          acc += u[m * ms + PS_CV] / V;
+          acc += u[m * ms + PS_CV] * iV;
           a[1 + m] = PetscMin(acc, 1.0);
         }
         a[nm + 1] = 1.0;
