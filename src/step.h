@@ -81,15 +81,21 @@ PETSC_INTERN PetscErrorCode PSAPICG2P(PSSolver *, PSFields *, const PSIndex *, P
 PETSC_INTERN PetscErrorCode PSStressUpdate(PSSolver *, PSFields *, PetscReal dt);
 
 /* boundary conditions on a node's velocity (or momentum): physical node ip */
-static inline void PSNodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
+static inline void PSNodeBCDim(const PSSolver *S, const PetscInt dim, const PetscInt ip[3], PetscReal *v)
 {
   PetscInt d, e;
-  for (d = 0; d < S->dim; d++) {
+  for (d = 0; d < dim; d++) {
     PSBCType bc = ip[d] <= 0 ? S->bc[d][0] : ip[d] >= S->scene->cells[d] ? S->bc[d][1] : PS_BC_FREE;
     if (bc == PS_BC_SYMMETRY) v[d] = 0.0;
     else if (bc == PS_BC_FIXED)
-      for (e = 0; e < S->dim; e++) v[e] = 0.0;
+      for (e = 0; e < dim; e++) v[e] = 0.0;
   }
+}
+
+/* (dim a constant in the cells' loops, which call PSNodeBCDim) */
+static inline void PSNodeBC(const PSSolver *S, const PetscInt ip[3], PetscReal *v)
+{
+  PSNodeBCDim(S, S->dim, ip, v);
 }
 
 /* GIMP half size of a marker: half its initial size (m) */

@@ -171,11 +171,12 @@ PetscErrorCode PSCellsExchange(PSCells *C)
 /* m^C_i = sum_c M_c / 2^dim over the cells around each local node (ghost
    nodes included where their cells are in the ghosted box), from C->Mcell:
    each node sums its cells in the order of the cell array (z, y, x), skipping
-   cells without mass */
-static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
+   cells without mass; dim a constant where it is called (NodalMassGather
+   picks 2D or 3D), so the loop over a node's cells unrolls */
+static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, const PetscInt dim)
 {
   PSCells        *C   = S->cells;
-  const PetscInt  dim = S->dim, nco = 1 << dim;
+  const PetscInt  nco = 1 << dim;
   const PetscReal w   = dim == 3 ? 0.125 : 0.25;
   PetscInt        n[3], c[3], lo[3], hi[3], e, a, off[8];
 
@@ -216,6 +217,14 @@ static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
         C->mcn[Lidx(ix, n[0], n[1], n[2])] = mc;
       }
     }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
+{
+  PetscFunctionBeginUser;
+  if (S->dim == 2) PetscCall(NodalMassGatherDim(S, ix, 2));
+  else PetscCall(NodalMassGatherDim(S, ix, 3));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -155,19 +155,28 @@ static inline PetscInt PSCellsXIdx(const PSCells *C, PetscInt i, PetscInt j, Pet
   return ((k - C->xs[2]) * C->xm[1] + (j - C->xs[1])) * C->xm[0] + (i - C->xs[0]);
 }
 
-/* which corners of cell (i, j, k) are owned nodes: bit a for the corner at
-   offset K.off[a] (bit d of a: the upper node along d) */
-static inline PetscInt PSCellsOwnedCorners(const PSIndex *ix, PetscInt dim, PetscInt i, PetscInt j, PetscInt k)
+/* which corners of a cell are owned nodes: bit a for the corner at offset
+   K.off[a] (bit d of a: the upper node along d).  Along one direction d, for
+   the cell's index c along it: the corners whose node along d is owned (the
+   loops over cells take it once per row, plane and cell) */
+static inline PetscInt PSCellsOwnedAxis(const PSIndex *ix, PetscInt d, PetscInt c)
 {
   static const PetscInt lower[3] = {0x55, 0x33, 0x0f}; /* the corners a with bit d of a zero */
-  const PetscInt        c[3]     = {i, j, k};
-  PetscInt              mask = (1 << (1 << dim)) - 1, d;
-  for (d = 0; d < dim; d++) {
-    const PetscInt  n  = c[d] + PS_PAD; /* the cell's lower node along d */
-    const PetscBool lo = n >= ix->os[d] && n < ix->os[d] + ix->om[d], hi = n + 1 >= ix->os[d] && n + 1 < ix->os[d] + ix->om[d];
-    mask &= (lo ? lower[d] : 0) | (hi ? ~lower[d] & 0xff : 0);
-  }
-  return mask;
+  const PetscInt        n        = c + PS_PAD;         /* the cell's lower node along d */
+  const PetscBool       lo = n >= ix->os[d] && n < ix->os[d] + ix->om[d], hi = n + 1 >= ix->os[d] && n + 1 < ix->os[d] + ix->om[d];
+  return (lo ? lower[d] : 0) | (hi ? ~lower[d] & 0xff : 0);
+}
+
+/* ... along y and z, for a row of cells (j, k) */
+static inline PetscInt PSCellsOwnedRow(const PSIndex *ix, PetscInt dim, PetscInt j, PetscInt k)
+{
+  return ((1 << (1 << dim)) - 1) & PSCellsOwnedAxis(ix, 1, j) & (dim == 3 ? PSCellsOwnedAxis(ix, 2, k) : 0xff);
+}
+
+/* ... and in all directions, of cell (i, j, k) */
+static inline PetscInt PSCellsOwnedCorners(const PSIndex *ix, PetscInt dim, PetscInt i, PetscInt j, PetscInt k)
+{
+  return PSCellsOwnedRow(ix, dim, j, k) & PSCellsOwnedAxis(ix, 0, i);
 }
 
 /* ghosted cell ci's mass M_c (the sum over its materials, in order) and its

@@ -89,25 +89,6 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The pressure a cell's materials exert together: the compliance-weighted
-   mean sum chi_k p_k / sum chi_k.  It is the pressure whose work on the
-   cell's volume change equals the work the closure's shares do
-   (sum_k p_k dV_k with dV_k proportional to chi_k), so the nodal force and
-   the materials' energies agree; at equilibrium it is the common pressure.
-   ec: the cell's cached EOS values (PSCellsEOSCache); [m0, m1) the cell's
-   materials with mass (PSCellsPresent; ShareVolume's too, whose dVk and dVr
-   are set for those only). */
-PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec, PetscInt m0, PetscInt m1)
-{
-  PetscReal sc = 0.0, sp = 0.0;
-  PetscInt  m;
-  for (m = m0; m < m1; m++) {
-    sc += ec[PS_EC * m + 2];
-    sp += ec[PS_EC * m + 2] * ec[PS_EC * m];
-  }
-  return sc > 0.0 ? sp / sc : 0.0;
-}
-
 /* the general case of PSCellsShareVolume (closure.h), which takes a cell with
    one material and no void itself */
 PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)

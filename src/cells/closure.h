@@ -10,7 +10,27 @@
 
 #define PS_EC 3 /* cached per cell and material: p (Pa), c (m/s), compliance V/(rho c^2) (m^3/Pa) */
 PETSC_INTERN PetscErrorCode PSCellsEOSCache(PSSolver *);
-PETSC_INTERN PetscReal      PSCellsForcePressure(const PSCells *, const PetscReal *ec, PetscInt m0, PetscInt m1);
+
+/* The pressure a cell's materials exert together: the compliance-weighted
+   mean sum chi_k p_k / sum chi_k.  It is the pressure whose work on the
+   cell's volume change equals the work the closure's shares do
+   (sum_k p_k dV_k with dV_k proportional to chi_k), so the nodal force and
+   the materials' energies agree; at equilibrium it is the common pressure.
+   ec: the cell's cached EOS values (PSCellsEOSCache); [m0, m1) the cell's
+   materials with mass (PSCellsPresent; ShareVolume's too, whose dVk and dVr
+   are set for those only).  Inline: the cells' P2G and the predictor call it
+   for every cell */
+static inline PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec, PetscInt m0, PetscInt m1)
+{
+  PetscReal sc = 0.0, sp = 0.0;
+  PetscInt  m;
+  for (m = m0; m < m1; m++) {
+    sc += ec[PS_EC * m + 2];
+    sp += ec[PS_EC * m + 2] * ec[PS_EC * m];
+  }
+  return sc > 0.0 ? sp / sc : 0.0;
+}
+
 /* void below this fraction of a cell is a trace (what a discarded trace of
    material, or round-off, leaves): it takes no share of an expansion, which
    goes to the materials by compliance; the relaxation still fills it, a

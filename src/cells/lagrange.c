@@ -92,6 +92,14 @@ static inline void HourglassRates(const PSCorners *K, PetscInt o, const PetscRea
 static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
 {
   PetscInt m;
+  if (m1 == m0 + 1) {
+    /* one material (nearly every cell): the loops below, unrolled */
+    const PetscReal M = u[m0 * C->ms + PS_CM], V = u[m0 * C->ms + PS_CV];
+    *Mc   = PetscMax(M, 0.0);
+    *Vm   = PetscMax(V, 0.0);
+    *cmax = M > 0.0 && V >= PS_TRACE * *Vm ? PetscMax(0.0, ec[PS_EC * m0 + 1]) : 0.0;
+    return;
+  }
   *Mc = *Vm = *cmax = 0.0;
   for (m = m0; m < m1; m++) {
     *Mc += PetscMax(u[m * C->ms + PS_CM], 0.0);
@@ -109,7 +117,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
-  PetscInt        i, j, k, m, a, d, e, o, n = 0;
+  PetscInt        i, j, k, m, a, d, e, o, n = 0, orow;
 
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
@@ -124,11 +132,11 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
      each node's sum in one order on any number of ranks) */
   for (k = C->xs[2]; k < C->ce[2]; k++)
     for (j = C->xs[1]; j < C->ce[1]; j++)
-      for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
+      for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = PSCellsOwnedCorners(ix, dim, i, j, k);
+        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
         PetscInt         m0, m1;
         PSCellsPresent(C, ci, &m0, &m1);
@@ -295,10 +303,10 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
 static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dof = PSGridDof(S), nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C);
+  const PetscInt  dof = PSGridDof(S), nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   PetscReal      *g = S->g, hm = 0.0;
-  PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0;
+  PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0, orow;
 
   PetscFunctionBeginUser;
   if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
@@ -317,12 +325,12 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
      its owned corners */
   for (k = C->xs[2]; k < C->ce[2]; k++)
     for (j = C->xs[1]; j < C->ce[1]; j++)
-      for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
+      for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * PSCellsHalfMat(C)], *gh = qh + 1;
-        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = PSCellsOwnedCorners(ix, dim, i, j, k);
+        PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * hmat], *gh = qh + 1;
+        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
         PSCellsPresent(C, ci, &m0, &m1);
@@ -336,8 +344,8 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           const PetscReal  *blk = &u[m * C->ms];
-          PetscReal        *pk = &hs[m * PSCellsHalfMat(C)], *sk = pk + 1, A, B, c2, e1, V1, J;
-          for (e = 0; e < PSCellsHalfMat(C); e++) pk[e] = 0.0; /* (only the materials with mass read it: the Lagrangian phase) */
+          PetscReal        *pk = &hs[m * hmat], *sk = pk + 1, A, B, c2, e1, V1, J;
+          for (e = 0; e < hmat; e++) pk[e] = 0.0; /* (only the materials with mass read it: the Lagrangian phase) */
           if (blk[PS_CM] <= 0.0) continue;
           V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
           if (M->eos_fn == PSEOSIdealGas && M->spall >= 0.0) {
@@ -413,7 +421,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         PetscReal     *gn    = &g[dof * (o = Lidx(ix, i, j, k))], vn[3] = {0, 0, 0};
         if (gn[0] <= S->mass_min) continue;
         for (d = 0; d < dim; d++) vn[d] = gn[1 + d] + dt * C->df[dim * o + d] / gn[0];
-        PSNodeBC(S, ip, vn);
+        PSNodeBCDim(S, dim, ip, vn);
         for (d = 0; d < dim; d++) gn[1 + d] = vn[d];
         if (musl) {
           /* the markers' increment dv = v^{n+1} - v_M^n from their own old
@@ -449,7 +457,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1;
+  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
   PetscInt        i, j, k, m, d, o;
@@ -471,7 +479,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
           C->vh[dim * o + d] = 0.5 * (C->vo[dim * o + d] + v[dof * o + d]);
           C->P[dim * o + d]  = C->mcn[o] * v[dof * o + d];
         }
-        PSNodeBC(S, ip, &C->vh[dim * o]); /* walls hold the faces on them */
+        PSNodeBCDim(S, dim, ip, &C->vh[dim * o]); /* walls hold the faces on them */
       }
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
@@ -479,7 +487,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         const PetscInt   ci = PSCellIdx(C, i, j, k), n = PSCellsXIdx(C, i, j, k);
         PetscReal       *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
-        const PetscReal *hs = &C->hs[PSCellsHalfSize(C) * n], qh = hs[C->nmat * PSCellsHalfMat(C)]; /* the predictor's half-step values; q^h */
+        const PetscReal *hs = &C->hs[hsd * n], qh = hs[C->nmat * hmat]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscInt         m0, m1;
@@ -503,7 +511,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
-          const PetscReal *gh  = hs + C->nmat * PSCellsHalfMat(C) + 1, kap = HourglassKappa(&C->K, Mc, cmax);
+          const PetscReal *gh  = hs + C->nmat * hmat + 1, kap = HourglassKappa(&C->K, Mc, cmax);
           PetscReal        hg[4][3];
           PetscInt         e;
           HourglassRates(&C->K, oc, C->vh, hg);
@@ -514,7 +522,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           PetscReal        *blk = &u[m * C->ms];
-          const PetscReal  *pk  = &hs[m * PSCellsHalfMat(C)], *sk = pk + 1;
+          const PetscReal  *pk  = &hs[m * hmat], *sk = pk + 1;
           PetscReal         wdev = 0.0, wh = 0.0, V1, E1;
           if (blk[PS_CM] <= 0.0) continue;
           V1 = blk[PS_CV] + dVk[m];
