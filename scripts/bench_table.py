@@ -74,6 +74,10 @@ def main():
     if "cells_flux_ns_pure_256_1" in b and "sweep_floor_ns_256" in b:
         rows.append(("cells, remap flux phase, pure gas 256^2, 1 rank", f"{b['cells_flux_ns_pure_256_1']:.3g} ns/cell/sweep",
                      f"stripped one-gas sweep, same run: {b['sweep_floor_ns_256']:.3g} ns", f"{b['cells_flux_ns_pure_256_1'] / b['sweep_floor_ns_256']:.2f}", "", ""))
+    # the same step counted in instructions (scripts/bench_instructions): no ratio, a figure that does not move with the machine's load
+    if "cells_instructions_quadrants_128" in b:
+        rows.append(("cells, quadrants 128^2, 1 rank: instructions per cell-update", f"{b['cells_instructions_quadrants_128']:.0f}",
+                     "valgrind callgrind, the same on every run", "", "", ""))
     if "nocells_calls" in b:
         rows.append(("elastic block (no cells): cells' phases entered", f"{b['nocells_calls']:.0f} times", "", "", "0", "yes" if b["nocells_calls"] == 0 else "no"))
     # contact (multi-field) against bonded, the oblique plate
