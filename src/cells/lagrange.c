@@ -114,7 +114,7 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
 static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim;
+  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C);
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
   PetscInt        i, j, k, m, a, d, e, o, n = 0, orow;
@@ -163,8 +163,15 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
           }
         }
         for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
-        /* the hourglass rates of the cell materials' nodal velocities; the corners' mass and force */
+        /* the hourglass rates of the cell materials' nodal velocities (kept in
+           the cell's slot for g_m^h, C->hs, where the predictor reads them as
+           the rates at t^n before it writes g_m^h); the corners' mass and force */
         HourglassRates(&C->K, oc, C->Pn, hg);
+        {
+          PetscReal *gh = &C->hs[hsd * n + C->nmat * PSCellsHalfMat(C) + 1];
+          for (e = 0; e < nh; e++)
+            for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
+        }
         kap = HourglassKappa(&C->K, Mc, cmax);
         for (a = 0; a < nco; a++) {
           PetscReal *gn = &g[dof * (oc + C->K.off[a])];
@@ -394,9 +401,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
         HourglassRates(&C->K, oc, C->vh, hgh);
-        HourglassRates(&C->K, oc, C->Pn, hg0); /* the cells' nodal velocity at t^n (PSCellsToGrid) */
         for (e = 0; e < nh; e++)
-          for (d = 0; d < dim; d++) gh[dim * e + d] = hgh[e][d];
+          for (d = 0; d < dim; d++) {
+            hg0[e][d]        = gh[dim * e + d]; /* the rates of the cells' nodal velocity at t^n, as PSCellsToGrid left them */
+            gh[dim * e + d] = hgh[e][d];
+          }
         kap = HourglassKappa(&C->K, Mc, cmax);
         /* the force change at the corners */
         for (a = 0; a < nco; a++) {

@@ -436,8 +436,9 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
    lower face, out through the upper.  Materials in neither range are not
    touched (their fluxes are zero: u + (0 - 0) is u), and only those fluxed
    or with mass before the sweep are tested for discard (the others are all
-   zero, which the test skips) */
-static inline void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
+   zero, which the test skips).  Always inline: GCC kept it out of line, and
+   the call cost about 15 instructions per cell and sweep */
+static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
   const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, ci = PSCellIdx(C, i[0], i[1], i[2]);
@@ -547,20 +548,22 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
       for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
         const PetscInt o = Lidx(ix, i[0], i[1], i[2]);
+        PetscReal      lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
         PetscInt       k;
-        for (q = 0; q < dim; q++) {
-          VB[2 * dim * o + 2 * q]     = PETSC_MAX_REAL;
-          VB[2 * dim * o + 2 * q + 1] = -PETSC_MAX_REAL;
-        }
+        /* without branches: a node outside the local array or without mass
+           offers the bounds' own start, which changes neither */
         for (k = -1; k <= 1; k++) {
-          const PetscInt o2 = o + k * sw.sd;
-          if (i[d] + k < ix->gs[d] || i[d] + k >= ix->gs[d] + ix->gm[d]) continue;
-          if (C->mcn[o2] <= 0.0) continue;
+          const PetscBool in = i[d] + k >= ix->gs[d] && i[d] + k < ix->gs[d] + ix->gm[d];
+          const PetscInt  o2 = in ? o + k * sw.sd : o;
+          const PetscBool ok = in && C->mcn[o2] > 0.0;
           for (q = 0; q < dim; q++) {
-            const PetscReal vq = VL[dim * o2 + q];
-            VB[2 * dim * o + 2 * q]     = PetscMin(VB[2 * dim * o + 2 * q], vq);
-            VB[2 * dim * o + 2 * q + 1] = PetscMax(VB[2 * dim * o + 2 * q + 1], vq);
+            lo[q] = PetscMin(lo[q], ok ? VL[dim * o2 + q] : PETSC_MAX_REAL);
+            hi[q] = PetscMax(hi[q], ok ? VL[dim * o2 + q] : -PETSC_MAX_REAL);
           }
+        }
+        for (q = 0; q < dim; q++) {
+          VB[2 * dim * o + 2 * q]     = lo[q];
+          VB[2 * dim * o + 2 * q + 1] = hi[q];
         }
       }
   PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
