@@ -156,7 +156,13 @@ static inline void PSPressureEnergy(const PSMaterial *M, PetscBool failed, Petsc
   }
 }
 
-PETSC_INTERN PetscReal PSViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic);
+/* q = rho h (c_q h tr(D)^2 + c_l c |tr D|) in compression only (von
+   Neumann-Richtmyer + linear, Wilkins 1980).  Inline: the cells call it
+   twice per cell and step */
+static inline PetscReal PSViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic)
+{
+  return trD < 0.0 ? rho * h * (c_quadratic * h * trD * trD + c_linear * c * PetscAbsReal(trD)) : 0.0;
+}
 PETSC_INTERN PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *, PetscReal J, PetscReal e, PetscReal p, PetscReal *c);
 
 #endif

@@ -83,12 +83,6 @@ PetscErrorCode PSMarkerCheckJ(PetscReal J, PetscInt64 id, PetscInt material, Pet
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* q = rho h (c_q h tr(D)^2 + c_l c |tr D|) in compression only (von Neumann-Richtmyer + linear, Wilkins 1980) */
-PetscReal PSViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic)
-{
-  return trD < 0.0 ? rho * h * (c_quadratic * h * trD * trD + c_linear * c * PetscAbsReal(trD)) : 0.0;
-}
-
 PetscErrorCode PSMarkerSoundSpeed(const PSMaterial *M, PetscReal J, PetscReal e, PetscReal p, PetscReal *c)
 {
   PetscReal A, B, c2;
