@@ -98,6 +98,10 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
     C->xm[d] = C->ce[d] - C->xs[d];
     PetscCall(CellRanges(S, d, C->nc[d], &lc[d]));
   }
+  C->cst[0] = 1; /* (PSCellIdx) */
+  C->cst[1] = C->gm[0];
+  C->cst[2] = C->gm[0] * C->gm[1];
+  C->coff   = C->gs[0] + C->gs[1] * C->cst[1] + C->gs[2] * C->cst[2];
   PetscCall(PetscCalloc1(C->ncl * C->dof, &C->u));
   PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, C->dof, &C->sfu));
   PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, 2, &C->sfd));

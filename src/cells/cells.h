@@ -68,6 +68,7 @@ typedef struct PSCells_ {
   PetscInt  nc[3];                /* cells per direction */
   PetscInt  cs[3], ce[3];         /* owned cells [cs, ce) */
   PetscInt  gs[3], gm[3];         /* ghosted cell box: corner and size */
+  PetscInt  cst[3], coff;         /* its strides (1, gm[0], gm[0] gm[1]) and the index of cell (0, 0, 0) in it, negated (PSCellIdx) */
   PetscInt  xs[3], xm[3];         /* the cells around the owned nodes: corner and size (PSCellsXIdx) */
   PetscInt  ncl;                  /* cells in the ghosted box */
   PetscReal *u;                   /* the ghosted cell array, ncl x dof */
@@ -136,7 +137,7 @@ static inline void PSCellsPresent(const PSCells *C, PetscInt ci, PetscInt *m0, P
 /* index of ghosted cell (i, j, k) (global cell indices) */
 static inline PetscInt PSCellIdx(const PSCells *C, PetscInt i, PetscInt j, PetscInt k)
 {
-  return ((k - C->gs[2]) * C->gm[1] + (j - C->gs[1])) * C->gm[0] + (i - C->gs[0]);
+  return i + j * C->cst[1] + k * C->cst[2] - C->coff; /* ((k - gs2) gm1 + (j - gs1)) gm0 + (i - gs0) */
 }
 
 /* The cells around this rank's owned nodes, [xs, xs + xm): the owned

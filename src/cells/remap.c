@@ -94,7 +94,9 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr)
           const PetscReal *blk = &u[sole * ms];
           PetscReal       *sp  = &C->sS[(ms - 1) * ci];
           sp[0] = blk[PS_CM] / blk[PS_CV];
-          for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
+          if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
+          else
+            for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
         }
         /* (one division per cell, not one per participant) */
         const PetscReal iV = 1.0 / V;
@@ -264,7 +266,9 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
         PetscReal       *Fm  = &F[s * ms];
         Fm[PS_CV] = side * vol[s];
         Fm[PS_CM] = side * dM;
-        for (q = 1; q < ms - 1; q++) Fm[q + 1] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
+        if (ms == PS_CQ) Fm[PS_CE] = side * dM * (spd[1] + off * VanLeer(spd[1] - sp0[1], sp1[1] - spd[1])); /* a gas's block: E alone, without the loop */
+        else
+          for (q = 1; q < ms - 1; q++) Fm[q + 1] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
         F[nm * ms + 1] += side * dM;
         R[0] = s;
         R[1] = s + 1;
