@@ -118,6 +118,15 @@ static inline PetscInt PSCellsHalfSize(const PSCells *C)
   return C->nmat * PSCellsHalfMat(C) + 1 + (C->dim == 3 ? 4 : 1) * C->dim;
 }
 
+/* the offset, in a cell's half-step values, of its hourglass rates g_m (after
+   the materials' values and q^h): the cells' P2G leaves the rates at t^n
+   there, the predictor reads them and writes g_m^h, the Lagrangian phase
+   reads those */
+static inline PetscInt PSCellsHalfRates(const PSCells *C)
+{
+  return C->nmat * PSCellsHalfMat(C) + 1;
+}
+
 /* the cells' materials with mass: a cell holds one (nearly every cell), several, or none */
 #define PS_CELL_SEVERAL (-1)
 #define PS_CELL_EMPTY   (-2)

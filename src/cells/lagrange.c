@@ -114,7 +114,7 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
 static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C);
+  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C), hro = PSCellsHalfRates(C);
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
   PetscInt        i, j, k, m, a, d, e, o, n = 0, orow;
@@ -168,7 +168,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
            the rates at t^n before it writes g_m^h); the corners' mass and force */
         HourglassRates(&C->K, oc, C->Pn, hg);
         {
-          PetscReal *gh = &C->hs[hsd * n + C->nmat * PSCellsHalfMat(C) + 1];
+          PetscReal *gh = &C->hs[hsd * n + hro];
           for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
         }
@@ -336,7 +336,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
-        PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * hmat], *gh = qh + 1;
+        PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * hmat], *gh = qh + 1; /* (hs + PSCellsHalfRates) */
         const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
@@ -466,7 +466,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
+  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C), hro = PSCellsHalfRates(C);
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
   PetscInt        i, j, k, m, d, o;
@@ -520,7 +520,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
-          const PetscReal *gh  = hs + C->nmat * hmat + 1, kap = HourglassKappa(&C->K, Mc, cmax);
+          const PetscReal *gh  = hs + hro, kap = HourglassKappa(&C->K, Mc, cmax);
           PetscReal        hg[4][3];
           PetscInt         e;
           HourglassRates(&C->K, oc, C->vh, hg);
