@@ -326,6 +326,66 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   }
 }
 
+/* the faces j0 + k e_x, k < n (a run along x: a slice's row, or a line along
+   d = x), into F[fs k] and R[2 k].  A face whose donor and both its
+   neighbours along d hold one material alone and fill their volume (nearly
+   every face of a single-material region) takes FaceFlux's fast path here:
+   its arithmetic, in its order, with the indices carried along the run
+   instead of recomputed per face (FaceFlux spent about 220 instructions on
+   such a face, most of them on indices and tests); any other face (no
+   motion, a donor outside the domain, a mixed, partial or boundary donor)
+   takes FaceFlux itself */
+static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, PetscReal *F, PetscInt *R)
+{
+  const PSCells      *C = S->cells;
+  const PetscInt      dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, d = sw->d, cd = sw->cd, sp = ms - 1;
+  const PetscReal     A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh;
+  const signed char  *sole = C->sole;
+  const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
+  const PetscInt      a0 = (j0[0] - fr->o[0]) * fr->s[0] + (j0[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (j0[2] - fr->o[2]) * fr->s[2] : 0);
+  const PetscInt      clo = C->gs[d], chi = C->gs[d] + C->gm[d], nc = C->nc[d];
+  PetscInt            k, q;
+
+  for (k = 0; k < n; k++) {
+    const PetscInt   o = o0 + k;
+    PetscReal        delta, *Fk = &F[fs * k];
+    PetscInt         cdn, uc, s;
+    /* the face's displacement (FaceFlux's sum, from 0) */
+    if (dim == 3) delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d] + v[dim * (o + sw->s2) + d] + v[dim * (o + sw->s1 + sw->s2) + d];
+    else delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d];
+    delta *= hdt;
+    /* the donor along d */
+    cdn = j0[d] + (d == 0 ? k : 0) - (delta > 0.0 ? 1 : 0);
+    uc  = u0 + k - (delta > 0.0 ? cd : 0);
+    s   = delta != 0.0 && cdn > clo && cdn + 1 < chi && cdn >= 0 && cdn < nc ? sole[uc] : -1;
+    if (s >= 0 && sole[uc - cd] == s && sole[uc + cd] == s) {
+      const PetscReal *fa = &fr->A[a0 + k * fr->s[0] - (delta > 0.0 ? fr->s[d] : 0)];
+      const PetscReal *ud = &C->u[dof * uc], *n0 = &C->u[dof * (uc - cd)], *n1 = &C->u[dof * (uc + cd)], *blk = &ud[s * ms];
+      const PetscReal  V = ud[nm * ms + PS_CX_V], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
+      if (fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12 && vol > 0.0 && blk[PS_CM] > 0.0 && blk[PS_CV] > 0.999 * V && n0[s * ms + PS_CV] > 0.999 * n0[nm * ms + PS_CX_V] && n1[s * ms + PS_CV] > 0.999 * n1[nm * ms + PS_CX_V]) {
+        const PetscReal *spd = &C->sS[sp * uc], *sp0 = &C->sS[sp * (uc - cd)], *sp1 = &C->sS[sp * (uc + cd)];
+        const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
+        const PetscReal  dM = PetscMin(PetscMax(vol * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
+        PetscReal       *Fm = &Fk[s * ms];
+        Fk[nm * ms] = delta * A;
+        Fm[PS_CV]   = side * vol;
+        Fm[PS_CM]   = side * dM;
+        if (ms == PS_CQ) Fm[PS_CE] = side * dM * (spd[1] + off * VanLeer(spd[1] - sp0[1], sp1[1] - spd[1]));
+        else
+          for (q = 1; q < ms - 1; q++) Fm[q + 1] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
+        Fk[nm * ms + 1] = 0.0 + side * dM;
+        R[2 * k]        = s;
+        R[2 * k + 1]    = s + 1;
+        continue;
+      }
+    }
+    {
+      const PetscInt j[3] = {j0[0] + k, j0[1], j0[2]};
+      FaceFlux(S, ix, fr, dt, sw, dim, j, Fk, &R[2 * k]);
+    }
+  }
+}
+
 /* a slice's index range in x and y: the box's [lo, hi) across d below it in
    the loop nest, j's own index elsewhere (j[d] is the slice) */
 static inline void SliceRange(PetscInt d, const PetscInt lo[3], const PetscInt hi[3], const PetscInt j[3], PetscInt jl[2], PetscInt jh[2])
@@ -526,7 +586,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   hi[d] += 1;
   PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
   for (e = 0, ns = 1; e < d; e++) ns *= hi[e] - lo[e]; /* faces in a slice (below) */
-  PetscCall(ScratchSize(C, 3 * ns, fs));
+  PetscCall(ScratchSize(C, d == 0 ? hi[0] - lo[0] : 3 * ns, fs)); /* a line's faces along x, or three slices' */
   F  = C->sF;
   R  = C->sR;
   K  = C->sK;
@@ -581,7 +641,23 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      (the nodes' momentum, the books), is that of separate passes over all
      faces, then all cells */
   PetscCall(PetscLogEventBegin(EV_Flux, 0, 0, 0, 0));
-  {
+  if (d == 0) {
+    /* along x a slice is one face: line by line instead, all its faces (they
+       read the cells before the sweep only), then its cells in order: the
+       same arithmetic and sums, in the same order, as the slices' ring below */
+    const PetscInt nf = hi[0] - lo[0];
+    PetscInt       j[3], c;
+    for (j[2] = lo[2]; j[2] < hi[2]; j[2]++)
+      for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
+        j[0] = lo[0];
+        FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, R);
+        for (c = 0; c + 1 < nf; c++) {
+          j[0] = lo[0] + c;
+          DualFlux(S, ix, &sw, dim, j, F[fs * c + fs - 1], F[fs * (c + 1) + fs - 1], VL, Pn, K);
+          if (j[0] >= C->cs[0] && j[1] >= C->cs[1] && j[2] >= C->cs[2]) CellUpdate(S, &sw, j, &F[fs * c], &F[fs * (c + 1)], &R[2 * c], &R[2 * (c + 1)]);
+        }
+      }
+  } else {
     PetscInt lead, ol[3], oh[3], c;
     /* the indices across d that are outer to it in the loop nest: one pass of
        slices per line (d = x) or plane (d = y), one in all (d = z) */
@@ -600,8 +676,10 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
               PetscInt   j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
               j[d] = lead;
               SliceRange(d, lo, hi, j, jl, jh);
-              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++)
-                for (j[0] = jl[0]; j[0] < jh[0]; j[0]++, n++) FaceFlux(S, ix, fr, dt, &sw, dim, j, &Fs[fs * n], &Rs[2 * n]);
+              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
+                j[0] = jl[0];
+                FaceRun(S, ix, fr, dt, &sw, dim, j, jh[0] - jl[0], &Fs[fs * n], &Rs[2 * n]);
+              }
             }
             /* the cells of slice c = lead - 2, between faces c and c + 1 */
             c = lead - 2;
