@@ -357,7 +357,14 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
     /* the donor along d */
     cdn = j0[d] + (d == 0 ? k : 0) - (delta > 0.0 ? 1 : 0);
     uc  = u0 + k - (delta > 0.0 ? cd : 0);
-    s   = delta != 0.0 && cdn > clo && cdn + 1 < chi && cdn >= 0 && cdn < nc ? sole[uc] : -1;
+    if (delta == 0.0 || cdn < 0 || cdn >= nc) { /* nothing crosses, or void enters (FaceFlux's values) */
+      Fk[nm * ms]     = delta * A;
+      Fk[nm * ms + 1] = 0.0;
+      R[2 * k]        = nm;
+      R[2 * k + 1]    = 0;
+      continue;
+    }
+    s = cdn > clo && cdn + 1 < chi ? sole[uc] : -1;
     if (s >= 0 && sole[uc - cd] == s && sole[uc + cd] == s) {
       const PetscReal *fa = &fr->A[a0 + k * fr->s[0] - (delta > 0.0 ? fr->s[d] : 0)];
       const PetscReal *ud = &C->u[dof * uc], *n0 = &C->u[dof * (uc - cd)], *n1 = &C->u[dof * (uc + cd)], *blk = &ud[s * ms];
@@ -495,17 +502,17 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
   for (q = 0; q < C->ms; q++) b[q] = 0.0;
 }
 
-/* an owned cell's update from its faces' fluxes fl (lower) and fh (upper),
+/* an owned cell's update (i, its index ci in the ghosted array) from its faces' fluxes fl (lower) and fh (upper),
    which hold the materials [rl[0], rl[1]) and [rh[0], rh[1]): in through the
    lower face, out through the upper.  Materials in neither range are not
    touched (their fluxes are zero: u + (0 - 0) is u), and only those fluxed
    or with mass before the sweep are tested for discard (the others are all
    zero, which the test skips).  Always inline: GCC kept it out of line, and
    the call cost about 15 instructions per cell and sweep */
-static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
+static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
-  const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, ci = PSCellIdx(C, i[0], i[1], i[2]);
+  const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   PetscReal      *u = &C->u[C->dof * ci];
   PetscInt        m, q, f0, f1, m0, m1;
 
@@ -563,6 +570,72 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
   /* its mass for the nodes (PSCellsNodalMass after the sweep; DualFlux has read the
      one before the sweep) */
   PSCellsCellMass(C, ci);
+}
+
+/* the cells j0 + k e_x, k < n (a run along x), between their faces' fluxes
+   Fl[fs k] (lower) and Fh[fs k] (upper): each one's dual flux, then its
+   update if it is owned (the order of the slices' loop).  A cell inside the
+   domain along d whose node columns are all this rank's (the ownership
+   depends on x only through a range, found once per run) takes DualFlux's
+   arithmetic here, in its order, without its per-cell and per-column tests;
+   any other takes DualFlux itself */
+static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *Pn, PetscReal *K)
+{
+  const PSCells  *C = S->cells;
+  const PetscInt  d = sw->d, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2, fs = C->nmat * C->ms + 2;
+  const PetscInt  o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
+  const PetscBool owned = j0[1] >= C->cs[1] && j0[2] >= C->cs[2]; /* across x (x: below) */
+  PetscInt        xa, xb, k, a, b, q;
+  PetscBool       ok;
+
+  /* the range [xa, xb) of x where the cell's dual flux needs no test: inside
+     the domain along d (no outflow, a node beyond the upwind one) and its
+     2^dim nodes owned (OwnedIndex of each index and its successor) */
+  if (d == 0) {
+    ok = OwnedIndex(ix, 1, j0[1]) && OwnedIndex(ix, 1, j0[1] + 1) && (dim < 3 || (OwnedIndex(ix, 2, j0[2]) && OwnedIndex(ix, 2, j0[2] + 1)));
+    xa = PetscMax(ix->os[0] - PS_PAD, 1);
+    xb = PetscMin(ix->os[0] + ix->om[0] - PS_PAD - 1, C->nc[0] - 1);
+  } else {
+    const PetscInt e = 3 - d; /* in 3D the index across d other than x */
+    ok = j0[d] > 0 && j0[d] + 1 < C->nc[d] && OwnedIndex(ix, d, j0[d]) && OwnedIndex(ix, d, j0[d] + 1) && (dim < 3 || (OwnedIndex(ix, e, j0[e]) && OwnedIndex(ix, e, j0[e] + 1)));
+    xa = ix->os[0] - PS_PAD;
+    xb = ix->os[0] + ix->om[0] - PS_PAD - 1;
+  }
+  if (!ok) xb = xa;
+  for (k = 0; k < n; k++) {
+    const PetscInt   x = j0[0] + k, ci = u0 + k;
+    const PetscReal *fl = &Fl[fs * k], *fh = &Fh[fs * k], Flo = fl[fs - 1], Fhi = fh[fs - 1];
+    if (x >= xa && x < xb) {
+      if (Flo != 0.0 || Fhi != 0.0) {
+        const PetscReal phi = 0.5 * (Flo + Fhi) / ncol, Mc = C->Mcell[ci]; /* before the sweep */
+        const PetscReal nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0, g = 0.5 * (1.0 - nu);
+        const PetscBool up = phi > 0.0;
+        const PetscInt  ou = up ? 0 : sd, od = up ? sd : 0, ob = up ? -sd : 2 * sd, oc = o0 + k;
+        for (a = 0; a < (dim == 3 ? 2 : 1); a++)
+          for (b = 0; b < 2; b++) {
+            const PetscInt   oL = oc + b * s1 + a * s2, oU = oL + sd;
+            const PetscReal *vu = &VL[dim * (oL + ou)], *vd = &VL[dim * (oL + od)];
+            const PetscReal *vb = C->mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
+            PetscReal        vf[3], v2 = 0.0;
+            for (q = 0; q < dim; q++) {
+              vf[q] = vu[q] + g * VanLeer(vu[q] - vb[q], vd[q] - vu[q]);
+              v2 += vf[q] * vf[q];
+            }
+            for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
+            K[oL] -= phi * 0.5 * v2;
+            for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
+            K[oU] += phi * 0.5 * v2;
+          }
+      }
+    } else {
+      const PetscInt j[3] = {x, j0[1], j0[2]};
+      DualFlux(S, ix, sw, dim, j, Flo, Fhi, VL, Pn, K);
+    }
+    if (owned && x >= C->cs[0]) {
+      const PetscInt j[3] = {x, j0[1], j0[2]};
+      CellUpdate(S, sw, j, ci, fl, fh, &Rl[2 * k], &Rh[2 * k]);
+    }
+  }
 }
 
 /* one sweep along d; dim a constant where it is called (Sweep picks 2D or
@@ -651,11 +724,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
       for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
         j[0] = lo[0];
         FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, R);
-        for (c = 0; c + 1 < nf; c++) {
-          j[0] = lo[0] + c;
-          DualFlux(S, ix, &sw, dim, j, F[fs * c + fs - 1], F[fs * (c + 1) + fs - 1], VL, Pn, K);
-          if (j[0] >= C->cs[0] && j[1] >= C->cs[1] && j[2] >= C->cs[2]) CellUpdate(S, &sw, j, &F[fs * c], &F[fs * (c + 1)], &R[2 * c], &R[2 * (c + 1)]);
-        }
+        CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[fs], R, &R[2], VL, Pn, K);
       }
   } else {
     PetscInt lead, ol[3], oh[3], c;
@@ -689,11 +758,10 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
               PetscInt         j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
               j[d] = c;
               SliceRange(d, lo, hi, j, jl, jh);
-              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++)
-                for (j[0] = jl[0]; j[0] < jh[0]; j[0]++, n++) {
-                  DualFlux(S, ix, &sw, dim, j, Fl[fs * n + fs - 1], Fh[fs * n + fs - 1], VL, Pn, K);
-                  if (j[0] >= C->cs[0] && j[1] >= C->cs[1] && j[2] >= C->cs[2]) CellUpdate(S, &sw, j, &Fl[fs * n], &Fh[fs * n], &Rl[2 * n], &Rh[2 * n]);
-                }
+              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
+                j[0] = jl[0];
+                CellRun(S, ix, &sw, dim, j, jh[0] - jl[0], &Fl[fs * n], &Fh[fs * n], &Rl[2 * n], &Rh[2 * n], VL, Pn, K);
+              }
             }
           }
         }
