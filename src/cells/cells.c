@@ -154,7 +154,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->dep));
   PetscCall(PetscFree2((*C)->sF, (*C)->sR));
   PetscCall(PetscFree((*C)->sA));
-  PetscCall(PetscFree((*C)->sS));
+  PetscCall(PetscFree2((*C)->sS, (*C)->sP));
   PetscCall(PetscFree((*C)->ec));
   if ((*C)->sK) PetscCall(PetscFree3((*C)->sK, (*C)->sVB, (*C)->sVL));
   PetscCall(PetscSFDestroy(&(*C)->sfp));

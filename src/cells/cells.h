@@ -77,6 +77,7 @@ typedef struct PSCells_ {
   PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
+  short       *sP;                /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep) */
   PetscInt  nsF;
   PetscReal *ec;                  /* per owned cell and material: the step's EOS values (closure.c) */
   PetscSF   sfd;                  /* its ghost sums (halo.c) */
@@ -85,7 +86,7 @@ typedef struct PSCells_ {
   PetscReal *Pn;                  /* scratch of the same size */
   PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
   PetscReal *Mcell;               /* per ghosted cell: its cell materials' mass M_c (kg), as PSCellsNodalMass last summed it */
-  signed char *sole;              /* per ghosted cell: its one cell material with mass (0..nmat-1), PS_CELL_SEVERAL or PS_CELL_EMPTY (the same sum) */
+  short       *sole;              /* per ghosted cell: its one cell material with mass (0..nmat-1), PS_CELL_SEVERAL or PS_CELL_EMPTY (the same sum); a short, not a char: a store through a char pointer may alias anything, and the loops that write it would load every field they use again */
   PetscReal *vh;                  /* the nodal velocity that moves the cells' faces this step, dim per node */
   PetscReal *vo;                  /* the nodal velocity at t^n (PSCellsPredict), dim per node */
   PetscReal *df;                  /* the corrector's change of the cells' nodal force, dim per node */
@@ -201,7 +202,7 @@ static inline void PSCellsCellMass(PSCells *C, PetscInt ci)
     if (u[m * C->ms + PS_CM] > 0.0) sole = sole == PS_CELL_EMPTY ? m : PS_CELL_SEVERAL;
   }
   C->Mcell[ci] = Mc;
-  C->sole[ci]  = (signed char)sole;
+  C->sole[ci]  = (short)sole;
 }
 
 /* a cell material's EOS (the registry's model, materials.h): the ideal gas,

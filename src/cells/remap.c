@@ -62,7 +62,7 @@ typedef struct {
   PetscReal *A;             /* np cumulative fractions per cell */
 } PSFractions;
 
-static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr)
+static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
 {
   const PetscInt dim = C->dim, nm = C->nmat, ms = C->ms;
   PetscInt       i, j, k, e, m, q, ntot = 1;
@@ -78,36 +78,61 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr)
   fr->s[1] = fr->np * fr->n[0];
   fr->s[2] = fr->np * fr->n[0] * fr->n[1];
   if (!fr->A) PetscCall(PetscMalloc1(ntot * fr->np, &fr->A));
-  if (!C->sS) PetscCall(PetscMalloc1(C->ncl * (ms - 1), &C->sS));
-  for (k = 0; k < fr->n[2]; k++)
-    for (j = 0; j < fr->n[1]; j++)
-      for (i = 0; i < fr->n[0]; i++) {
-        /* the nearest cell of the ghosted box */
-        const PetscInt   g[3] = {PetscMin(PetscMax(i + fr->o[0], C->gs[0]), C->gs[0] + C->gm[0] - 1), PetscMin(PetscMax(j + fr->o[1], C->gs[1]), C->gs[1] + C->gm[1] - 1), dim == 3 ? PetscMin(PetscMax(k + fr->o[2], C->gs[2]), C->gs[2] + C->gm[2] - 1) : 0};
-        const PetscInt   ci = PSCellIdx(C, g[0], g[1], g[2]), sole = C->sole[ci];
-        const PetscReal *u = &C->u[C->dof * ci], V = u[nm * ms + PS_CX_V];
-        PetscReal       *a = &fr->A[i * fr->s[0] + j * fr->s[1] + k * fr->s[2]], acc;
-        /* a cell with one material with mass: its density and the advected
-           quantities per unit mass, which the faces around it read three
-           times a sweep (donor, and neighbour of each side's donor) */
-        if (sole >= 0) {
-          const PetscReal *blk = &u[sole * ms];
-          PetscReal       *sp  = &C->sS[(ms - 1) * ci];
-          sp[0] = blk[PS_CM] / blk[PS_CV];
-          if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
-          else
-            for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
+  if (!C->sS) PetscCall(PetscMalloc2(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP));
+  {
+    const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
+    const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, dof = C->dof;
+    const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
+    const PetscReal    Vc = C->Vc, *U = C->u;
+    const short       *Sole = C->sole;
+    PetscReal         *A = fr->A, *sS = C->sS;
+    short             *sP = C->sP;
+    for (k = 0; k < n[2]; k++)
+      for (j = 0; j < n[1]; j++)
+        for (i = 0; i < n[0]; i++) {
+          /* the nearest cell of the ghosted box */
+          const PetscInt   g[3] = {PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), PetscMin(PetscMax(j + o[1], gs[1]), gl[1]), dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0};
+          const PetscInt   ci = g[0] + g[1] * cst1 + g[2] * cst2 - coff, sole = Sole[ci]; /* PSCellIdx */
+          const PetscReal *u = &U[dof * ci], V = u[nm * ms + PS_CX_V];
+          PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
+          /* a cell with one material with mass: its density and the advected
+             quantities per unit mass, which the faces around it read three
+             times a sweep (donor, and neighbour of each side's donor) */
+          if (sole >= 0) {
+            const PetscReal *blk = &u[sole * ms];
+            PetscReal       *sp  = &sS[(ms - 1) * ci];
+            sp[0] = blk[PS_CM] / blk[PS_CV];
+            if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
+            else
+              for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
+          }
+          /* (one division per cell, not one per participant) */
+          const PetscReal iV = 1.0 / V;
+          acc  = PetscMin(u[nm * ms + PS_CX_AM] * Vc * iV, 1.0);
+          a[0] = acc;
+          for (m = 0; m < nm; m++) {
+            acc += u[m * ms + PS_CV] * iV;
+            a[1 + m] = PetscMin(acc, 1.0);
+          }
+          a[nm + 1] = 1.0;
+          /* the material that fills the cell alone, for the faces' fast path
+             (FaceRun).  (A copy outside the ghosted cells writes its nearest
+             cell's value again: the same) */
+          sP[ci] = (short)(sole >= 0 && a[0] <= 1e-12 && 1.0 - a[nm] <= 1e-12 && u[sole * ms + PS_CV] > 0.999 * V ? sole : -1);
         }
-        /* (one division per cell, not one per participant) */
-        const PetscReal iV = 1.0 / V;
-        acc  = PetscMin(u[nm * ms + PS_CX_AM] * C->Vc * iV, 1.0);
-        a[0] = acc;
-        for (m = 0; m < nm; m++) {
-          acc += u[m * ms + PS_CV] * iV;
-          a[1 + m] = PetscMin(acc, 1.0);
-        }
-        a[nm + 1] = 1.0;
-      }
+  }
+  /* none on the ghosted array's two faces along d: their neighbours along d
+     are not in it */
+  {
+    PetscInt l[3], lo[3] = {0, 0, 0}, hi[3] = {C->gm[0], C->gm[1], dim == 3 ? C->gm[2] : 1};
+    for (e = 0; e < 2; e++) {
+      lo[d] = e ? C->gm[d] - 1 : 0;
+      hi[d] = lo[d] + 1;
+      for (l[2] = lo[2]; l[2] < hi[2]; l[2]++)
+        for (l[1] = lo[1]; l[1] < hi[1]; l[1]++)
+          for (l[0] = lo[0]; l[0] < hi[0]; l[0]++) C->sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1;
+    }
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -340,16 +365,14 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
   const PSCells      *C = S->cells;
   const PetscInt      dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, d = sw->d, cd = sw->cd, sp = ms - 1;
   const PetscReal     A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh;
-  const signed char  *sole = C->sole;
-  const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
-  const PetscInt      a0 = (j0[0] - fr->o[0]) * fr->s[0] + (j0[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (j0[2] - fr->o[2]) * fr->s[2] : 0);
-  const PetscInt      clo = C->gs[d], chi = C->gs[d] + C->gm[d], nc = C->nc[d];
+  const short        *fill = C->sP;
+  const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d];
   PetscInt            k, q;
 
   for (k = 0; k < n; k++) {
-    const PetscInt   o = o0 + k;
-    PetscReal        delta, *Fk = &F[fs * k];
-    PetscInt         cdn, uc, s;
+    const PetscInt o = o0 + k;
+    PetscReal      delta, *Fk = &F[fs * k];
+    PetscInt       cdn, uc, s;
     /* the face's displacement (FaceFlux's sum, from 0) */
     if (dim == 3) delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d] + v[dim * (o + sw->s2) + d] + v[dim * (o + sw->s1 + sw->s2) + d];
     else delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d];
@@ -364,12 +387,14 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
       R[2 * k + 1]    = 0;
       continue;
     }
-    s = cdn > clo && cdn + 1 < chi ? sole[uc] : -1;
-    if (s >= 0 && sole[uc - cd] == s && sole[uc + cd] == s) {
-      const PetscReal *fa = &fr->A[a0 + k * fr->s[0] - (delta > 0.0 ? fr->s[d] : 0)];
-      const PetscReal *ud = &C->u[dof * uc], *n0 = &C->u[dof * (uc - cd)], *n1 = &C->u[dof * (uc + cd)], *blk = &ud[s * ms];
+    /* FaceFlux's fast path holds where the donor and both its neighbours
+       are filled by one material s (FractionsBuild's C->sP: its tests,
+       and more) */
+    s = fill[uc];
+    if (s >= 0 && fill[uc - cd] == s && fill[uc + cd] == s) {
+      const PetscReal *ud = &C->u[dof * uc], *blk = &ud[s * ms];
       const PetscReal  V = ud[nm * ms + PS_CX_V], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
-      if (fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12 && vol > 0.0 && blk[PS_CM] > 0.0 && blk[PS_CV] > 0.999 * V && n0[s * ms + PS_CV] > 0.999 * n0[nm * ms + PS_CX_V] && n1[s * ms + PS_CV] > 0.999 * n1[nm * ms + PS_CX_V]) {
+      if (vol > 0.0) {
         const PetscReal *spd = &C->sS[sp * uc], *sp0 = &C->sS[sp * (uc - cd)], *sp1 = &C->sS[sp * (uc + cd)];
         const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
         const PetscReal  dM = PetscMin(PetscMax(vol * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
@@ -534,7 +559,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
     u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
     DiscardTrace(S, m, b);
     C->Mcell[ci] = b[PS_CM]; /* (PSCellsCellMass's sum: the others add zeros) */
-    C->sole[ci]  = (signed char)(b[PS_CM] > 0.0 ? m : PS_CELL_EMPTY);
+    C->sole[ci]  = (short)(b[PS_CM] > 0.0 ? m : PS_CELL_EMPTY);
     return;
   }
   /* the materials fluxed: the union of the faces' ranges (an empty one is
@@ -665,7 +690,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   K  = C->sK;
   VB = C->sVB;
   VL = C->sVL;
-  PetscCall(FractionsBuild(C, fr));
+  PetscCall(FractionsBuild(C, fr, d));
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
      upper corner nodes; free faces let the nodes' share out.  Velocities
      (VL) and kinetic energies (K) before the sweep, over every local node. */
