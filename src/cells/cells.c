@@ -174,8 +174,8 @@ PetscErrorCode PSCellsExchange(PSCells *C)
 
 /* m^C_i = sum_c M_c / 2^dim over the cells around each local node (ghost
    nodes included where their cells are in the ghosted box), from C->Mcell:
-   each node sums its cells in the order of the cell array (z, y, x), skipping
-   cells without mass; dim a constant where it is called (NodalMassGather
+   each node sums its cells in the order of the cell array (z, y, x) (a cell
+   without mass adds nothing); dim a constant where it is called (NodalMassGather
    picks 2D or 3D), so the loop over a node's cells unrolls */
 static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, const PetscInt dim)
 {
@@ -201,9 +201,9 @@ static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, 
       for (n[0] = ix->gs[0]; n[0] < ix->gs[0] + ix->gm[0]; n[0]++) {
         PetscReal mc = 0.0;
         if (n[0] >= x0 && n[0] < x1) {
+          /* (a cell without mass adds w 0 = 0, which changes no sum: no test) */
           const PetscReal *Mcell = &C->Mcell[PSCellIdx(C, n[0] - PS_PAD - 1, n[1] - PS_PAD - 1, dim == 3 ? n[2] - PS_PAD - 1 : 0)];
-          for (a = 0; a < nco; a++)
-            if (Mcell[off[a]] != 0.0) mc += w * Mcell[off[a]];
+          for (a = 0; a < nco; a++) mc += w * Mcell[off[a]];
           C->mcn[Lidx(ix, n[0], n[1], n[2])] = mc;
           continue;
         }

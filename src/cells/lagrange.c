@@ -352,7 +352,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           const PSMaterial *M   = &S->mat[C->mat[m]];
           const PetscReal  *blk = &u[m * C->ms];
           PetscReal        *pk = &hs[m * hmat], *sk = pk + 1, A, B, c2, e1, V1, J;
-          for (e = 0; e < hmat; e++) pk[e] = 0.0; /* (only the materials with mass read it: the Lagrangian phase) */
+          /* (only the materials with mass read it: the Lagrangian phase; a
+             material without strength has p alone, without GCC's call of memset) */
+          if (hmat == 1) pk[0] = 0.0;
+          else
+            for (e = 0; e < hmat; e++) pk[e] = 0.0;
           if (blk[PS_CM] <= 0.0) continue;
           V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
           if (M->eos_fn == PSEOSIdealGas && M->spall >= 0.0) {
