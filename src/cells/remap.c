@@ -713,9 +713,11 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         PetscReal      lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
         PetscInt       k;
         /* without branches: a node outside the local array or without mass
-           offers the bounds' own start, which changes neither */
+           offers the bounds' own start, which changes neither (the node
+           itself, owned, is in it) */
+        const PetscBool inm = i[d] - 1 >= ix->gs[d], inp = i[d] + 1 < ix->gs[d] + ix->gm[d];
         for (k = -1; k <= 1; k++) {
-          const PetscBool in = i[d] + k >= ix->gs[d] && i[d] + k < ix->gs[d] + ix->gm[d];
+          const PetscBool in = k == 0 || (k < 0 ? inm : inp);
           const PetscInt  o2 = in ? o + k * sw.sd : o;
           const PetscBool ok = in && C->mcn[o2] > 0.0;
           for (q = 0; q < dim; q++) {
