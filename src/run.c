@@ -72,13 +72,14 @@ static PetscErrorCode WriteGrid(PSSolver *S, PSRunIO *io, const char *fn)
   PetscCall(PetscViewerHDF5PushGroup(v, "/grid"));
   /* the step works on the local arrays: their owned values into the global vectors */
   PetscCall(DMLocalToGlobal(S->dag, S->Gl, INSERT_VALUES, S->G));
-  if (S->H) PetscCall(DMLocalToGlobal(S->dav, S->Hl, INSERT_VALUES, S->H));
+  if (PSSolverReprojects(S)) PetscCall(DMLocalToGlobal(S->dav, S->Hl, INSERT_VALUES, S->H));
   PetscCall(VecStrideGather(S->G, 0, io->out1, INSERT_VALUES));
   PetscCall(PetscObjectSetName((PetscObject)io->out1, "mass"));
   PetscCall(VecView(io->out1, v));
   for (d = 0; d < S->dim; d++) {
-    /* nodal velocity: the re-projected one (musl) or v_i of G = (m, v) (apic) */
-    PetscCall(VecStrideGather(S->H ? S->H : S->G, S->H ? PSReprojectDof(S) - S->dim + d : 1 + d, io->out1, INSERT_VALUES));
+    /* nodal velocity: the re-projected one (musl, PSSolverReprojects) or
+       v_i of G = (m, v) (apic; musl's v^{n+1} in a scene of cells alone) */
+    PetscCall(VecStrideGather(PSSolverReprojects(S) ? S->H : S->G, PSSolverReprojects(S) ? PSReprojectDof(S) - S->dim + d : 1 + d, io->out1, INSERT_VALUES));
     PetscCall(PetscObjectSetName((PetscObject)io->out1, names[d]));
     PetscCall(VecView(io->out1, v));
   }

@@ -16,7 +16,7 @@
     G2P         transfer_*.c      markers' velocity and displacement (musl: re-projection)
                 contact.c         (bodies in contact) redone for the markers near shared nodes, from their field
     Lagrange    cells/lagrange.c  cells deform with the nodal velocity: closure, EOS, strength
-    re-project  transfer_musl.c   (musl) the re-projected velocity and L_p
+    re-project  transfer_musl.c   (musl) the re-projected velocity and L_p (none without markers)
                 contact.c         (bodies in contact) the fields' re-projected velocity, contact law, L_p
                                   redone for the markers near shared nodes
     stress      stress.c          markers' constitutive update, x_p += dx_p
@@ -73,7 +73,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   else PetscCall(PSAPICG2P(S, &f, &ix, dt));
   if (S->contact) PetscCall(PSContactG2P(S, &f, &ix, dt));
   if (S->cells) PetscCall(PSCellsLagrange(S, &ix, dt));
-  if (musl) PetscCall(PSMUSLReproject(S, &f, &ix));
+  if (PSSolverReprojects(S)) PetscCall(PSMUSLReproject(S, &f, &ix));
   if (S->contact) PetscCall(PSContactReproject(S, &f, &ix));
   PetscCall(PSStressUpdate(S, &f, dt));
   if (S->cells) PetscCall(PSCellsRemap(S, &ix, dt));

@@ -105,6 +105,14 @@ typedef struct PSCells_ {
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */
 } PSCells;
 
+/* whether the step re-projects the nodal velocity for the markers (musl,
+   transfer_musl.c): a scene of cells alone (no marker bodies, no contact)
+   has no reader of it, and its grid files give the grid's v^{n+1} instead */
+static inline PetscBool PSSolverReprojects(const PSSolver *S)
+{
+  return S->run.transfer == PS_TRANSFER_MUSL && (!S->cells || S->cells->markers || S->contact) ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* the predictor's half-step values per owned cell (C->hs, lagrange.c): per
    material p_k^h, and s_k^h (ns) where cell materials carry strength, then q^h
    and the hourglass rates g_m^h (one mode of dim components in 2D, four in
