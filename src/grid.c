@@ -7,6 +7,7 @@
     fixed     zero velocity
 */
 #include "step.h"
+#include "cells/cells.h"
 
 PetscErrorCode PSGridActiveBox(PSSolver *S, const PSFields *f, PetscInt box[3][2])
 {
@@ -78,7 +79,7 @@ PetscErrorCode PSGridReset(PSSolver *S, const PSIndex *ix, const PetscInt box[3]
     if (S->Hl) PetscCall(VecZeroEntries(S->Hl));
   } else {
     PetscCall(ZeroBox(S->Gl, PSGridDof(S), ix->gs, ix->gm, S->zbox));
-    PetscCall(ZeroBox(S->Hl, PSReprojectDof(S), ix->gs, ix->gm, S->zbox));
+    if (PSSolverReprojects(S)) PetscCall(ZeroBox(S->Hl, PSReprojectDof(S), ix->gs, ix->gm, S->zbox)); /* (else nothing writes it) */
   }
   S->zall = PETSC_FALSE;
   PetscCall(PetscArraycpy(&S->zbox[0][0], &box[0][0], 6));
