@@ -746,7 +746,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
        read the cells before the sweep only), then its cells in order: the
        same arithmetic and sums, in the same order, as the slices' ring below */
     const PetscInt nf = hi[0] - lo[0];
-    PetscInt       j[3], c;
+    PetscInt       j[3];
     for (j[2] = lo[2]; j[2] < hi[2]; j[2]++)
       for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
         j[0] = lo[0];
@@ -756,7 +756,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   } else {
     PetscInt lead, ol[3], oh[3], c;
     /* the indices across d that are outer to it in the loop nest: one pass of
-       slices per line (d = x) or plane (d = y), one in all (d = z) */
+       slices per plane (d = y in 3D), one in all (d = y in 2D, d = z) */
     for (e = 0; e < 3; e++) {
       ol[e] = e > d ? lo[e] : 0;
       oh[e] = e > d ? hi[e] : 1;
