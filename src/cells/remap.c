@@ -278,28 +278,6 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12) {
     vol[s] = w * ud[nm * ms + PS_CX_V] / A * A;
     m0     = s;
-    /* nearly every face of a single-material region: the donor and both its
-       neighbours along d hold material s alone and fill their volume.  The
-       loop below's arithmetic, in its order, on FractionsBuild's values, with
-       none of its tests */
-    if (c[d] > C->gs[d] && c[d] + 1 < C->gs[d] + C->gm[d] && C->sole[uc - sw->cd] == s && C->sole[uc + sw->cd] == s) {
-      const PetscReal *blk = &ud[s * ms], *n0 = &C->u[dof * (uc - sw->cd)], *n1 = &C->u[dof * (uc + sw->cd)];
-      if (vol[s] > 0.0 && blk[PS_CM] > 0.0 && blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] && n0[s * ms + PS_CV] > 0.999 * n0[nm * ms + PS_CX_V] && n1[s * ms + PS_CV] > 0.999 * n1[nm * ms + PS_CX_V]) {
-        const PetscReal *spd = &C->sS[(ms - 1) * uc], *sp0 = &C->sS[(ms - 1) * (uc - sw->cd)], *sp1 = &C->sS[(ms - 1) * (uc + sw->cd)];
-        const PetscReal  off = side * 0.5 * (1.0 - w), rho = spd[0];
-        const PetscReal  dM  = PetscMin(PetscMax(vol[s] * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
-        PetscReal       *Fm  = &F[s * ms];
-        Fm[PS_CV] = side * vol[s];
-        Fm[PS_CM] = side * dM;
-        if (ms == PS_CQ) Fm[PS_CE] = side * dM * (spd[1] + off * VanLeer(spd[1] - sp0[1], sp1[1] - spd[1])); /* a gas's block: E alone, without the loop */
-        else
-          for (q = 1; q < ms - 1; q++) Fm[q + 1] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
-        F[nm * ms + 1] += side * dM;
-        R[0] = s;
-        R[1] = s + 1;
-        return;
-      }
-    }
   } else m0 = SlabVolumes(S, fr, fa, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
   m1 = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
   m0 = PetscMax(m0, 0);
@@ -353,13 +331,13 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
 
 /* the faces j0 + k e_x, k < n (a run along x: a slice's row, or a line along
    d = x), into F[fs k] and R[2 k].  A face whose donor and both its
-   neighbours along d hold one material alone and fill their volume (nearly
-   every face of a single-material region) takes FaceFlux's fast path here:
-   its arithmetic, in its order, with the indices carried along the run
-   instead of recomputed per face (FaceFlux spent about 220 instructions on
-   such a face, most of them on indices and tests); any other face (no
-   motion, a donor outside the domain, a mixed, partial or boundary donor)
-   takes FaceFlux itself */
+   neighbours along d are filled by one material (nearly every face of a
+   single-material region) takes here the arithmetic of FaceFlux's loop for
+   a pure donor with van Leer slopes, in its order, on FractionsBuild's
+   values, without its tests and with the indices carried along the run
+   (FaceFlux spent about 220 instructions on such a face, most of them on
+   indices and tests); any other face (a mixed, partial or boundary donor)
+   takes FaceFlux itself, which gives such a face the same values */
 static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, PetscReal *F, PetscInt *R)
 {
   const PSCells      *C = S->cells;
@@ -387,9 +365,8 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
       R[2 * k + 1]    = 0;
       continue;
     }
-    /* FaceFlux's fast path holds where the donor and both its neighbours
-       are filled by one material s (FractionsBuild's C->sP: its tests,
-       and more) */
+    /* the donor and both its neighbours filled by one material s
+       (FractionsBuild's C->sP: FaceFlux's tests for its slopes, and more) */
     s = fill[uc];
     if (s >= 0 && fill[uc - cd] == s && fill[uc + cd] == s) {
       const PetscReal *ud = &C->u[dof * uc], *blk = &ud[s * ms];
@@ -445,6 +422,19 @@ static inline void Outflow(PSSolver *S, PetscInt dim, PetscReal out, const Petsc
   S->lost_local.kinetic += 0.5 * out * k2;
 }
 
+/* the velocity a node column carries across a cell's mid-plane: the upwind
+   node's vu with a van Leer slope toward the mid-plane (vd downwind, vb
+   beyond upwind; g = (1 - nu)/2), and its square (DualFlux, CellRun) */
+static inline void MidPlaneVelocity(const PetscInt dim, const PetscReal *vu, const PetscReal *vd, const PetscReal *vb, PetscReal g, PetscReal vf[3], PetscReal *v2)
+{
+  PetscInt q;
+  *v2 = 0.0;
+  for (q = 0; q < dim; q++) {
+    vf[q] = vu[q] + g * VanLeer(vu[q] - vb[q], vd[q] - vu[q]);
+    *v2 += vf[q] * vf[q];
+  }
+}
+
 /* the momentum's dual flux of cell j (lower corner j): its mid-plane carries
    (F_lo + F_hi)/2 (the total mass fluxes of its faces along d) from its
    lower to its upper corner nodes, shared among the 2^(dim-1) node columns,
@@ -485,14 +475,10 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
       const PetscInt   oL = o0 + b * s1 + a * s2, oU = oL + sd;
       const PetscReal *vL = &VL[dim * oL], *vU = &VL[dim * oU], *vu = &VL[dim * (oL + ou)], *vd = &VL[dim * (oL + od)];
       const PetscReal *vb = inb && C->mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
-      PetscReal        vf[3], v2 = 0.0;
+      PetscReal        vf[3], v2;
       /* the column's nodes are this rank's if its transverse indices are */
       if (!(OwnedIndex(ix, t1, i[t1] + b) && (dim < 3 || OwnedIndex(ix, t2, i[t2] + a)))) continue;
-      /* the upwind node's velocity, with a van Leer slope toward the mid-plane */
-      for (q = 0; q < dim; q++) {
-        vf[q] = vu[q] + g * VanLeer(vu[q] - vb[q], vd[q] - vu[q]);
-        v2 += vf[q] * vf[q];
-      }
+      MidPlaneVelocity(dim, vu, vd, vb, g, vf, &v2);
       if (own0) {
         for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
         K[oL] -= phi * 0.5 * v2;
@@ -641,11 +627,8 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
             const PetscInt   oL = oc + b * s1 + a * s2, oU = oL + sd;
             const PetscReal *vu = &VL[dim * (oL + ou)], *vd = &VL[dim * (oL + od)];
             const PetscReal *vb = C->mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
-            PetscReal        vf[3], v2 = 0.0;
-            for (q = 0; q < dim; q++) {
-              vf[q] = vu[q] + g * VanLeer(vu[q] - vb[q], vd[q] - vu[q]);
-              v2 += vf[q] * vf[q];
-            }
+            PetscReal        vf[3], v2;
+            MidPlaneVelocity(dim, vu, vd, vb, g, vf, &v2);
             for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
             K[oL] -= phi * 0.5 * v2;
             for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
