@@ -63,23 +63,24 @@ typedef struct {
 
 static PetscErrorCode WriteGrid(PSSolver *S, PSRunIO *io, const char *fn)
 {
-  PetscViewer v;
-  PetscInt    d;
-  const char *names[] = {"velocity_x", "velocity_y", "velocity_z"};
+  PetscViewer     v;
+  PetscInt        d;
+  const char     *names[] = {"velocity_x", "velocity_y", "velocity_z"};
+  const PetscBool rep     = PSSolverReprojects(S); /* the velocity is the re-projected one (H), else G's */
 
   PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5Open(PetscObjectComm((PetscObject)S->da), fn, FILE_MODE_WRITE, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/grid"));
   /* the step works on the local arrays: their owned values into the global vectors */
   PetscCall(DMLocalToGlobal(S->dag, S->Gl, INSERT_VALUES, S->G));
-  if (PSSolverReprojects(S)) PetscCall(DMLocalToGlobal(S->dav, S->Hl, INSERT_VALUES, S->H));
+  if (rep) PetscCall(DMLocalToGlobal(S->dav, S->Hl, INSERT_VALUES, S->H));
   PetscCall(VecStrideGather(S->G, 0, io->out1, INSERT_VALUES));
   PetscCall(PetscObjectSetName((PetscObject)io->out1, "mass"));
   PetscCall(VecView(io->out1, v));
   for (d = 0; d < S->dim; d++) {
     /* nodal velocity: the re-projected one (musl, PSSolverReprojects) or
        v_i of G = (m, v) (apic; musl's v^{n+1} in a scene of cells alone) */
-    PetscCall(VecStrideGather(PSSolverReprojects(S) ? S->H : S->G, PSSolverReprojects(S) ? PSReprojectDof(S) - S->dim + d : 1 + d, io->out1, INSERT_VALUES));
+    PetscCall(VecStrideGather(rep ? S->H : S->G, rep ? PSReprojectDof(S) - S->dim + d : 1 + d, io->out1, INSERT_VALUES));
     PetscCall(PetscObjectSetName((PetscObject)io->out1, names[d]));
     PetscCall(VecView(io->out1, v));
   }
