@@ -65,7 +65,7 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
   if (!C->ec) {
     PetscInt nx = 1, d;
     for (d = 0; d < 3; d++) nx *= C->xm[d];
-    PetscCall(PetscMalloc1(PetscMax(1, nx * C->nmat * PS_EC), &C->ec));
+    PetscCall(PetscCalloc1(PetscMax(1, nx * C->nmat * PS_EC), &C->ec));
   }
   /* the cells around the owned nodes (PSCellsXIdx): their forces on them */
   for (k = C->xs[2]; k < C->ce[2]; k++)
@@ -75,10 +75,13 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
         const PetscReal *u  = &C->u[C->dof * ci];
         PetscInt         m0, m1;
         PSCellsPresent(C, ci, &m0, &m1);
-        for (m = 0; m < C->nmat; m++) {
+        /* the materials present only: every reader takes [m0, m1) (a
+           material outside holds no mass, so CellMix over all materials
+           never reads its slot, which keeps an earlier step's finite values) */
+        for (m = m0; m < m1; m++) {
           const PetscReal *blk = &u[m * C->ms];
           PetscReal       *ec  = &C->ec[PS_EC * (n * C->nmat + m)];
-          if (m < m0 || m >= m1 || blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
+          if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
             ec[0] = ec[1] = ec[2] = 0.0;
             continue;
           }

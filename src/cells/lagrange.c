@@ -109,9 +109,11 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
     if (u[m * C->ms + PS_CM] > 0.0 && u[m * C->ms + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
-/* the cells' mass and force to the nodes: dim a constant where it is called (PSCellsToGrid picks 2D or 3D), so
-   the per-cell loops unroll */
-static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
+/* the cells' mass and force to the nodes: dim and strength constants where
+   it is called (PSCellsToGrid picks 2D or 3D, and whether any cell material
+   has strength, C->nq > 0), so the per-cell loops unroll, and without
+   strength the stress is a pressure: the corners take its diagonal alone */
+static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
 {
   PSCells        *C = S->cells;
   const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C), hro = PSCellsHalfRates(C);
@@ -150,7 +152,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         for (m = m0; m < m1; m++) {
           const PetscReal *blk = &u[m * C->ms];
           if (blk[PS_CM] <= 0.0) continue;
-          if (C->nq) {
+          if (strength) {
             const PetscReal *sm = &blk[PS_CQ], im = 1.0 / blk[PS_CM];
             sig[0][0] += blk[PS_CV] * sm[0] * im;
             sig[1][1] += blk[PS_CV] * sm[1] * im;
@@ -179,7 +181,9 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
           gn[0] += Mc / nco;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
-            for (e = 0; e < dim; e++) fd -= sig[d][e] * C->K.gN[a][e];
+            if (strength)
+              for (e = 0; e < dim; e++) fd -= sig[d][e] * C->K.gN[a][e];
+            else fd -= sig[d][d] * C->K.gN[a][d];
             for (e = 0; e < nh; e++) fd -= kap * C->K.G[a][e] * hg[e][d];
             gn[fo + d] += fs * fd;
           }
@@ -193,9 +197,13 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
 
 PetscErrorCode PSCellsToGrid(PSSolver *S, const PSIndex *ix, PetscReal dt)
 {
+  const PetscBool strength = S->cells->nq > 0 ? PETSC_TRUE : PETSC_FALSE;
+
   PetscFunctionBeginUser;
-  if (S->dim == 2) PetscCall(PSCellsToGridDim(S, ix, dt, 2));
-  else PetscCall(PSCellsToGridDim(S, ix, dt, 3));
+  if (S->dim == 2 && strength) PetscCall(PSCellsToGridDim(S, ix, dt, 2, PETSC_TRUE));
+  else if (S->dim == 2) PetscCall(PSCellsToGridDim(S, ix, dt, 2, PETSC_FALSE));
+  else if (strength) PetscCall(PSCellsToGridDim(S, ix, dt, 3, PETSC_TRUE));
+  else PetscCall(PSCellsToGridDim(S, ix, dt, 3, PETSC_FALSE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -305,9 +313,10 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
   C->sat[6] = rho;
 }
 
-/* the predictor-corrector: dim a constant where it is called (PSCellsPredict picks 2D or 3D), so
-   the per-cell loops unroll */
-static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
+/* the predictor-corrector: dim and strength constants where it is called
+   (PSCellsPredict picks them as PSCellsToGrid), so the per-cell loops
+   unroll, and without strength the force's change is a pressure's */
+static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
 {
   PSCells        *C = S->cells;
   const PetscInt  dof = PSGridDof(S), nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
@@ -376,7 +385,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           sc += ec[PS_EC * m + 2];
           sp += ec[PS_EC * m + 2] * pk[0];
           /* the deviator half a step on (a copy: the Lagrangian phase takes the whole step) */
-          if (C->nq && M->G > 0.0) {
+          if (strength && M->G > 0.0) {
             PetscReal sq[8], w;
             for (e = 0; e < C->nq; e++) sq[e] = blk[PS_CQ + e];
             PetscCall(Deviator(M, dim, L, 0.5 * dt, blk[PS_CM] / V1, sq, blk[PS_CM], &w));
@@ -417,7 +426,9 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           if (!((own >> a) & 1)) continue;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
-            for (e = 0; e < dim; e++) fd -= dsig[d][e] * C->K.gN[a][e];
+            if (strength)
+              for (e = 0; e < dim; e++) fd -= dsig[d][e] * C->K.gN[a][e];
+            else fd -= dsig[d][d] * C->K.gN[a][d];
             for (e = 0; e < nh; e++) fd -= kap * C->K.G[a][e] * (hgh[e][d] - hg0[e][d]);
             dfa[d] += fd;
           }
@@ -459,9 +470,13 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
 
 PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 {
+  const PetscBool strength = S->cells->nq > 0 ? PETSC_TRUE : PETSC_FALSE;
+
   PetscFunctionBeginUser;
-  if (S->dim == 2) PetscCall(PSCellsPredictDim(S, ix, dt, 2));
-  else PetscCall(PSCellsPredictDim(S, ix, dt, 3));
+  if (S->dim == 2 && strength) PetscCall(PSCellsPredictDim(S, ix, dt, 2, PETSC_TRUE));
+  else if (S->dim == 2) PetscCall(PSCellsPredictDim(S, ix, dt, 2, PETSC_FALSE));
+  else if (strength) PetscCall(PSCellsPredictDim(S, ix, dt, 3, PETSC_TRUE));
+  else PetscCall(PSCellsPredictDim(S, ix, dt, 3, PETSC_FALSE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -600,8 +615,11 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
-        PetscReal Mc, Vm, cmax, vmax = 0.0;
-        CellMix(C, &C->u[C->dof * PSCellIdx(C, i, j, k)], &C->ec[PS_EC * PSCellsXIdx(C, i, j, k) * C->nmat], 0, C->nmat, &Mc, &Vm, &cmax);
+        const PetscInt ci = PSCellIdx(C, i, j, k);
+        PetscReal      Mc, Vm, cmax, vmax = 0.0;
+        PetscInt       m0, m1;
+        PSCellsPresent(C, ci, &m0, &m1); /* (the EOS cache holds these alone) */
+        CellMix(C, &C->u[C->dof * ci], &C->ec[PS_EC * PSCellsXIdx(C, i, j, k) * C->nmat], m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         for (a = 0; a < C->K.nco; a++) {
           const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + C->K.off[a];
