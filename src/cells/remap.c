@@ -829,10 +829,9 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
         PetscInt       c, m0, m1;
         if (Mc <= 0.0) continue;
-        for (c = 0; c < (1 << dim); c++) {
-          const PetscInt o = o0 + (c & 1) + ((c >> 1) & 1) * ix->gm[0] + ((c >> 2) & 1) * ix->gm[0] * ix->gm[1];
-          if (C->mcn[o] > 0.0) dE += VL[dim * o]; /* per unit of the cell's mass */
-        }
+        /* (a node without mass holds d_i = 0: above, and its owner's value
+           on the ghosts) */
+        for (c = 0; c < (1 << dim); c++) dE += VL[dim * (o0 + C->K.off[c])]; /* per unit of the cell's mass */
         PSCellsPresent(C, ci, &m0, &m1); /* as found after the sweep */
         for (m = m0; m < m1; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM];
         C->remap_heat += dE * Mc;
