@@ -302,9 +302,12 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
   for (k = C->cs[2]; k < (fit ? C->ce[2] : C->cs[2]); k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
-        PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
-        PetscReal  Vm = 0.0, room = C->Vc * PetscMax(1.0 - u[C->nmat * C->ms + PS_CX_AM], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
-        for (m = 0; m < C->nmat; m++)
+        const PetscInt ci = PSCellIdx(C, i, j, k);
+        PetscReal     *u  = &C->u[C->dof * ci];
+        PetscReal      Vm = 0.0, room = C->Vc * PetscMax(1.0 - u[C->nmat * C->ms + PS_CX_AM], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
+        PetscInt       m0, m1;
+        PSCellsPresent(C, ci, &m0, &m1); /* (the others hold no mass) */
+        for (m = m0; m < m1; m++)
           if (u[m * C->ms + PS_CM] > 0.0) Vm += u[m * C->ms + PS_CV];
         over = Vm - room;
         if (over <= 1e-12 * C->Vc) continue; /* room enough (nearly every cell): no EOS needed */
