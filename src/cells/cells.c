@@ -156,6 +156,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->sA));
   PetscCall(PetscFree2((*C)->sS, (*C)->sP));
   PetscCall(PetscFree((*C)->ec));
+  PetscCall(PetscFree((*C)->eco));
   if ((*C)->sK) PetscCall(PetscFree3((*C)->sK, (*C)->sVB, (*C)->sVL));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));

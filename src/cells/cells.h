@@ -79,7 +79,8 @@ typedef struct PSCells_ {
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
   short       *sP;                /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep) */
   PetscInt  nsF;
-  PetscReal *ec;                  /* per owned cell and material: the step's EOS values (closure.c) */
+  PetscReal *ec;                  /* the step's EOS values of each cell around the owned nodes, PS_EC per material present only (closure.c): PSCellsEC */
+  PetscInt  *eco, nec;            /* per cell around the owned nodes (PSCellsXIdx): the offset in ec of its slot for material 0 (a pure cell's slot is PS_EC reals, not PS_EC nmat); ec's capacity (reals) */
   PetscSF   sfd;                  /* its ghost sums (halo.c) */
   DM        dac;                  /* cells without ghosts, dof reals (output, checkpoint) */
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
@@ -150,6 +151,15 @@ static inline void PSCellsPresent(const PSCells *C, PetscInt ci, PetscInt *m0, P
   const PetscInt s = C->sole[ci];
   *m0 = s >= 0 ? s : 0;
   *m1 = s >= 0 ? s + 1 : (s == PS_CELL_EMPTY ? 0 : C->nmat);
+}
+
+/* the EOS cache of cell n (PSCellsXIdx): its values for material m at
+   PS_EC m, for the materials present [m0, m1) (PSCellsPresent) only; the
+   offset points below the cell's own slot by PS_EC m0 (ec begins with
+   PS_EC (nmat - 1) reals of padding, so it stays within the array) */
+static inline PetscReal *PSCellsEC(const PSCells *C, PetscInt n)
+{
+  return C->ec + C->eco[n];
 }
 
 /* index of ghosted cell (i, j, k) (global cell indices) */

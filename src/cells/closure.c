@@ -52,35 +52,59 @@ static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal 
 }
 
 /* The materials' pressure, sound speed and compliance of each cell around
-   the owned nodes (ec[PS_EC * (PSCellsXIdx * nmat + m) + ...]: the owned
+   the owned nodes (PSCellsEC(C, PSCellsXIdx)[PS_EC m + ...]: the owned
    cells and the ghost layer whose forces reach owned nodes), once per step
    before the cells' P2G: the state does not change until the Lagrangian
-   phase has used them. */
+   phase has used them.  Stored for the materials present only (a pure
+   cell's PS_EC reals, not PS_EC nmat: the quadrants' four gases read and
+   wrote 96 bytes per cell, now 24), in the order of the cells; every
+   reader takes [m0, m1) (PSCellsPresent), which the remap and the fit
+   alone change. */
 PetscErrorCode PSCellsEOSCache(PSSolver *S)
 {
   PSCells *C = S->cells;
-  PetscInt i, j, k, m, n = 0;
+  PetscInt i, j, k, m, n, m0, m1, tot = PS_EC * (C->nmat - 1);
 
   PetscFunctionBeginUser;
-  if (!C->ec) {
+  if (!C->eco) {
     PetscInt nx = 1, d;
     for (d = 0; d < 3; d++) nx *= C->xm[d];
-    PetscCall(PetscCalloc1(PetscMax(1, nx * C->nmat * PS_EC), &C->ec));
+    PetscCall(PetscMalloc1(PetscMax(1, nx), &C->eco));
+  }
+  /* each cell's slot: after the padding, the cells in order */
+  {
+    const PetscInt nrow = C->ce[0] - C->xs[0], nall = PS_EC * C->nmat; /* (locals: the stores to eco could alias C's fields) */
+    PetscInt      *eco  = C->eco;
+    n = 0;
+    for (k = C->xs[2]; k < C->ce[2]; k++)
+      for (j = C->xs[1]; j < C->ce[1]; j++) {
+        const short *sole = &C->sole[PSCellIdx(C, C->xs[0], j, k)];
+        for (i = 0; i < nrow; i++, n++) {
+          /* (PSCellsPresent's range, from the row's sole) */
+          const PetscInt s = sole[i];
+          eco[n] = s >= 0 ? tot - PS_EC * s : tot;
+          tot += s >= 0 ? PS_EC : (s == PS_CELL_EMPTY ? 0 : nall);
+        }
+      }
+  }
+  if (tot > C->nec) {
+    /* (with room for a quarter more: mixed cells come and go) */
+    PetscCall(PetscFree(C->ec));
+    C->nec = tot + tot / 4;
+    PetscCall(PetscCalloc1(C->nec, &C->ec));
   }
   /* the cells around the owned nodes (PSCellsXIdx): their forces on them */
+  n = 0;
   for (k = C->xs[2]; k < C->ce[2]; k++)
     for (j = C->xs[1]; j < C->ce[1]; j++)
       for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
-        PetscInt         m0, m1;
+        PetscReal       *ecn = PSCellsEC(C, n);
         PSCellsPresent(C, ci, &m0, &m1);
-        /* the materials present only: every reader takes [m0, m1) (a
-           material outside holds no mass, so CellMix over all materials
-           never reads its slot, which keeps an earlier step's finite values) */
         for (m = m0; m < m1; m++) {
           const PetscReal *blk = &u[m * C->ms];
-          PetscReal       *ec  = &C->ec[PS_EC * (n * C->nmat + m)];
+          PetscReal       *ec  = &ecn[PS_EC * m];
           if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
             ec[0] = ec[1] = ec[2] = 0.0;
             continue;

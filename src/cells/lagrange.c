@@ -137,7 +137,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
-        const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
+        const PetscReal *ec = PSCellsEC(C, n);
         const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
         PetscInt         m0, m1;
@@ -344,7 +344,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
-        const PetscReal *ec = &C->ec[PS_EC * n * C->nmat];
+        const PetscReal *ec = PSCellsEC(C, n);
         PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * hmat], *gh = qh + 1; /* (hs + PSCellsHalfRates) */
         const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
@@ -514,7 +514,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k), n = PSCellsXIdx(C, i, j, k);
         PetscReal       *u  = &C->u[C->dof * ci];
-        const PetscReal *ec = &C->ec[PS_EC * n * C->nmat]; /* this step's EOS values, from the cells' P2G */
+        const PetscReal *ec = PSCellsEC(C, n); /* this step's EOS values, from the cells' P2G */
         const PetscReal *hs = &C->hs[hsd * n], qh = hs[C->nmat * hmat]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
@@ -619,7 +619,7 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
         PetscReal      Mc, Vm, cmax, vmax = 0.0;
         PetscInt       m0, m1;
         PSCellsPresent(C, ci, &m0, &m1); /* (the EOS cache holds these alone) */
-        CellMix(C, &C->u[C->dof * ci], &C->ec[PS_EC * PSCellsXIdx(C, i, j, k) * C->nmat], m0, m1, &Mc, &Vm, &cmax);
+        CellMix(C, &C->u[C->dof * ci], PSCellsEC(C, PSCellsXIdx(C, i, j, k)), m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         for (a = 0; a < C->K.nco; a++) {
           const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + C->K.off[a];
