@@ -157,6 +157,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree2((*C)->sS, (*C)->sP));
   PetscCall(PetscFree((*C)->ec));
   PetscCall(PetscFree((*C)->eco));
+  PetscCall(PetscFree((*C)->hm));
   if ((*C)->sK) PetscCall(PetscFree3((*C)->sK, (*C)->sVB, (*C)->sVL));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));

@@ -80,7 +80,8 @@ typedef struct PSCells_ {
   short       *sP;                /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep) */
   PetscInt  nsF;
   PetscReal *ec;                  /* the step's EOS values of each cell around the owned nodes, PS_EC per material present only (closure.c): PSCellsEC */
-  PetscInt  *eco, nec;            /* per cell around the owned nodes (PSCellsXIdx): the offset in ec of its slot for material 0 (a pure cell's slot is PS_EC reals, not PS_EC nmat); ec's capacity (reals) */
+  PetscReal *hm;                  /* the predictor's half-step values of each material present in those cells, PSCellsHalfMat per material (lagrange.c): PSCellsHM */
+  PetscInt  *eco, nec;            /* per cell around the owned nodes (PSCellsXIdx): the index of its slot for material 0 among the material slots of ec and hm (a pure cell has one slot, not nmat); their capacity (slots) */
   PetscSF   sfd;                  /* its ghost sums (halo.c) */
   DM        dac;                  /* cells without ghosts, dof reals (output, checkpoint) */
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
@@ -91,7 +92,7 @@ typedef struct PSCells_ {
   PetscReal *vh;                  /* the nodal velocity that moves the cells' faces this step, dim per node */
   PetscReal *vo;                  /* the nodal velocity at t^n (PSCellsPredict), dim per node */
   PetscReal *df;                  /* the corrector's change of the cells' nodal force, dim per node */
-  PetscReal *hs;                  /* per owned cell: the predictor's half-step values (lagrange.c) */
+  PetscReal *hs;                  /* per cell around the owned nodes: the predictor's half-step values q^h and hourglass rates (lagrange.c) */
   PetscSF   sfp;                  /* ghost exchange of P (halo.c) */
   PetscInt  nnl;                  /* local nodes */
   PetscReal Vc;                   /* cell volume (m^3; m^2 in 2D) */
@@ -114,10 +115,12 @@ static inline PetscBool PSSolverReprojects(const PSSolver *S)
   return S->run.transfer == PS_TRANSFER_MUSL && (!S->cells || S->cells->markers || S->contact) ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* the predictor's half-step values per owned cell (C->hs, lagrange.c): per
-   material p_k^h, and s_k^h (ns) where cell materials carry strength, then q^h
-   and the hourglass rates g_m^h (one mode of dim components in 2D, four in
-   3D).  Reals per material, and in all */
+/* the predictor's half-step values (lagrange.c): per material present
+   p_k^h, and s_k^h (ns) where cell materials carry strength (C->hm,
+   PSCellsHM), and per cell (C->hs) q^h, then the hourglass rates g_m^h (one
+   mode of dim components in 2D, four in 3D; the cells' P2G leaves the rates
+   at t^n there, the predictor reads them and writes g_m^h, the Lagrangian
+   phase reads those).  Reals per material, and per cell */
 static inline PetscInt PSCellsHalfMat(const PSCells *C)
 {
   return 1 + (C->nq ? C->ns : 0);
@@ -125,16 +128,7 @@ static inline PetscInt PSCellsHalfMat(const PSCells *C)
 
 static inline PetscInt PSCellsHalfSize(const PSCells *C)
 {
-  return C->nmat * PSCellsHalfMat(C) + 1 + (C->dim == 3 ? 4 : 1) * C->dim;
-}
-
-/* the offset, in a cell's half-step values, of its hourglass rates g_m (after
-   the materials' values and q^h): the cells' P2G leaves the rates at t^n
-   there, the predictor reads them and writes g_m^h, the Lagrangian phase
-   reads those */
-static inline PetscInt PSCellsHalfRates(const PSCells *C)
-{
-  return C->nmat * PSCellsHalfMat(C) + 1;
+  return 1 + (C->dim == 3 ? 4 : 1) * C->dim;
 }
 
 /* the cells' materials with mass: a cell holds one (nearly every cell), several, or none */
@@ -153,13 +147,21 @@ static inline void PSCellsPresent(const PSCells *C, PetscInt ci, PetscInt *m0, P
   *m1 = s >= 0 ? s + 1 : (s == PS_CELL_EMPTY ? 0 : C->nmat);
 }
 
-/* the EOS cache of cell n (PSCellsXIdx): its values for material m at
-   PS_EC m, for the materials present [m0, m1) (PSCellsPresent) only; the
-   offset points below the cell's own slot by PS_EC m0 (ec begins with
-   PS_EC (nmat - 1) reals of padding, so it stays within the array) */
+/* The material slots of cell n (PSCellsXIdx), for the materials present
+   [m0, m1) (PSCellsPresent) only, set once per step by the EOS cache
+   (closure.c): its EOS values for material m at PS_EC m, and its half-step
+   values at hmat m (hmat = PSCellsHalfMat).  The index points below the
+   cell's own slots by m0 (the arrays begin with nmat - 1 slots of padding,
+   so it stays within them) */
+#define PS_EC 3 /* cached per cell and material: p (Pa), c (m/s), compliance V/(rho c^2) (m^3/Pa) */
 static inline PetscReal *PSCellsEC(const PSCells *C, PetscInt n)
 {
-  return C->ec + C->eco[n];
+  return C->ec + PS_EC * C->eco[n];
+}
+
+static inline PetscReal *PSCellsHM(const PSCells *C, PetscInt n, PetscInt hmat)
+{
+  return C->hm + hmat * C->eco[n];
 }
 
 /* index of ghosted cell (i, j, k) (global cell indices) */

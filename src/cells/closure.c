@@ -63,7 +63,7 @@ static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal 
 PetscErrorCode PSCellsEOSCache(PSSolver *S)
 {
   PSCells *C = S->cells;
-  PetscInt i, j, k, m, n, m0, m1, tot = PS_EC * (C->nmat - 1);
+  PetscInt i, j, k, m, n, m0, m1, tot = C->nmat - 1; /* (slots: the padding) */
 
   PetscFunctionBeginUser;
   if (!C->eco) {
@@ -73,7 +73,7 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
   }
   /* each cell's slot: after the padding, the cells in order */
   {
-    const PetscInt nrow = C->ce[0] - C->xs[0], nall = PS_EC * C->nmat; /* (locals: the stores to eco could alias C's fields) */
+    const PetscInt nrow = C->ce[0] - C->xs[0], nall = C->nmat; /* (locals: the stores to eco could alias C's fields) */
     PetscInt      *eco  = C->eco;
     n = 0;
     for (k = C->xs[2]; k < C->ce[2]; k++)
@@ -82,16 +82,18 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
         for (i = 0; i < nrow; i++, n++) {
           /* (PSCellsPresent's range, from the row's sole) */
           const PetscInt s = sole[i];
-          eco[n] = s >= 0 ? tot - PS_EC * s : tot;
-          tot += s >= 0 ? PS_EC : (s == PS_CELL_EMPTY ? 0 : nall);
+          eco[n] = s >= 0 ? tot - s : tot;
+          tot += s >= 0 ? 1 : (s == PS_CELL_EMPTY ? 0 : nall);
         }
       }
   }
   if (tot > C->nec) {
     /* (with room for a quarter more: mixed cells come and go) */
     PetscCall(PetscFree(C->ec));
+    PetscCall(PetscFree(C->hm));
     C->nec = tot + tot / 4;
-    PetscCall(PetscCalloc1(C->nec, &C->ec));
+    PetscCall(PetscCalloc1(PS_EC * C->nec, &C->ec));
+    PetscCall(PetscCalloc1(PSCellsHalfMat(C) * C->nec, &C->hm));
   }
   /* the cells around the owned nodes (PSCellsXIdx): their forces on them */
   n = 0;

@@ -8,7 +8,6 @@
 
 #include "cells.h"
 
-#define PS_EC 3 /* cached per cell and material: p (Pa), c (m/s), compliance V/(rho c^2) (m^3/Pa) */
 PETSC_INTERN PetscErrorCode PSCellsEOSCache(PSSolver *);
 
 /* The pressure a cell's materials exert together: the compliance-weighted

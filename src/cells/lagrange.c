@@ -116,7 +116,7 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
 static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
 {
   PSCells        *C = S->cells;
-  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C), hro = PSCellsHalfRates(C);
+  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C);
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
   PetscInt        i, j, k, m, a, d, e, o, n = 0, orow;
@@ -170,7 +170,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
            the rates at t^n before it writes g_m^h); the corners' mass and force */
         HourglassRates(&C->K, oc, C->Pn, hg);
         {
-          PetscReal *gh = &C->hs[hsd * n + hro];
+          PetscReal *gh = &C->hs[hsd * n + 1];
           for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
         }
@@ -345,7 +345,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         const PetscInt   ci = PSCellIdx(C, i, j, k);
         const PetscReal *u  = &C->u[C->dof * ci];
         const PetscReal *ec = PSCellsEC(C, n);
-        PetscReal       *hs = &C->hs[hsd * n], *qh = &hs[C->nmat * hmat], *gh = qh + 1; /* (hs + PSCellsHalfRates) */
+        PetscReal       *hmn = PSCellsHM(C, n, hmat), *qh = &C->hs[hsd * n], *gh = qh + 1;
         const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
@@ -360,7 +360,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           const PetscReal  *blk = &u[m * C->ms];
-          PetscReal        *pk = &hs[m * hmat], *sk = pk + 1, A, B, c2, e1, V1, J;
+          PetscReal        *pk = &hmn[m * hmat], *sk = pk + 1, A, B, c2, e1, V1, J;
           /* (only the materials with mass read it: the Lagrangian phase; a
              material without strength has p alone, without GCC's call of memset) */
           if (hmat == 1) pk[0] = 0.0;
@@ -485,7 +485,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C), hro = PSCellsHalfRates(C);
+  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
   PetscInt        i, j, k, m, d, o;
@@ -515,7 +515,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         const PetscInt   ci = PSCellIdx(C, i, j, k), n = PSCellsXIdx(C, i, j, k);
         PetscReal       *u  = &C->u[C->dof * ci];
         const PetscReal *ec = PSCellsEC(C, n); /* this step's EOS values, from the cells' P2G */
-        const PetscReal *hs = &C->hs[hsd * n], qh = hs[C->nmat * hmat]; /* the predictor's half-step values; q^h */
+        const PetscReal *hmn = PSCellsHM(C, n, hmat), *hs = &C->hs[hsd * n], qh = hs[0]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscInt         m0, m1;
@@ -539,7 +539,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
-          const PetscReal *gh  = hs + hro, kap = HourglassKappa(&C->K, Mc, cmax);
+          const PetscReal *gh  = hs + 1, kap = HourglassKappa(&C->K, Mc, cmax);
           PetscReal        hg[4][3];
           PetscInt         e;
           HourglassRates(&C->K, oc, C->vh, hg);
@@ -550,7 +550,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
           PetscReal        *blk = &u[m * C->ms];
-          const PetscReal  *pk  = &hs[m * hmat], *sk = pk + 1;
+          const PetscReal  *pk  = &hmn[m * hmat], *sk = pk + 1;
           PetscReal         wdev = 0.0, wh = 0.0, V1, E1;
           if (blk[PS_CM] <= 0.0) continue;
           V1 = blk[PS_CV] + dVk[m];
