@@ -73,7 +73,8 @@ typedef struct PSCells_ {
   PetscInt  ncl;                  /* cells in the ghosted box */
   PetscReal *u;                   /* the ghosted cell array, ncl x dof */
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
-  PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance */
+  PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance; then the fit's discarded mass */
+  PetscBool dep_dirty;            /* dep holds a discard (else it is all zero, and the fit need not zero it) */
   PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */

@@ -206,6 +206,7 @@ static PetscErrorCode DiscardMomentum(PSSolver *S, const PSIndex *ix)
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)S->da)));
   if (!any) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PSHaloBcast(C->sfd, dep)); /* the ghost cells' discards */
+  C->dep_dirty = PETSC_TRUE;
   PetscCall(PetscArrayzero(dm, C->nnl));
   for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
     for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++)
@@ -319,8 +320,10 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
 
   PetscFunctionBeginUser;
   if (C->markers || !fit) PetscCall(DepositMarkers(S));
-  /* dep now takes each cell's discarded mass (kg), for its nodes' momentum */
-  PetscCall(PetscArrayzero(dep, 2 * C->ncl));
+  /* dep now takes each cell's discarded mass (kg), for its nodes' momentum
+     (zeroed only where something wrote it: without markers nearly never) */
+  if (C->markers || !fit || C->dep_dirty) PetscCall(PetscArrayzero(dep, 2 * C->ncl));
+  C->dep_dirty = PETSC_FALSE;
   PetscCall(PSGridIndex(S->da, &ix));
   /* fit: the cell materials compressed where they overflow the room beside
      the markers (not at insertion, which is exact: the boxes only
@@ -354,6 +357,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
             PetscReal *blk = &u[m * C->ms];
             PetscInt   q;
             dep[2 * PSCellIdx(C, i, j, k)] += blk[PS_CM];
+            C->dep_dirty = PETSC_TRUE;
             S->lost_local.mass += blk[PS_CM];
             S->lost_local.internal += blk[PS_CE];
             C->discarded += blk[PS_CM];
@@ -373,6 +377,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
             PetscReal *blk = &u[m * C->ms];
             PetscInt   q;
             dep[2 * PSCellIdx(C, i, j, k)] += phi * blk[PS_CM];
+            C->dep_dirty = PETSC_TRUE;
             S->lost_local.mass += phi * blk[PS_CM];
             S->lost_local.internal += phi * blk[PS_CE];
             C->discarded += phi * blk[PS_CM];
