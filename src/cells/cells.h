@@ -141,11 +141,15 @@ static inline PetscInt PSCellsHalfSize(const PSCells *C)
    without mass is zeroed where it loses it, remap.c and closure.c, so
    skipping it changes no sum).  Valid from PSCellsNodalMass until the
    cells' masses next change (the remap's sweeps, the fit) */
+static inline void PSCellsSoleRange(PetscInt s, PetscInt nmat, PetscInt *m0, PetscInt *m1)
+{
+  *m0 = s >= 0 ? s : 0;
+  *m1 = s >= 0 ? s + 1 : (s == PS_CELL_EMPTY ? 0 : nmat);
+}
+
 static inline void PSCellsPresent(const PSCells *C, PetscInt ci, PetscInt *m0, PetscInt *m1)
 {
-  const PetscInt s = C->sole[ci];
-  *m0 = s >= 0 ? s : 0;
-  *m1 = s >= 0 ? s + 1 : (s == PS_CELL_EMPTY ? 0 : C->nmat);
+  PSCellsSoleRange(C->sole[ci], C->nmat, m0, m1);
 }
 
 /* The material slots of cell n (PSCellsXIdx), for the materials present

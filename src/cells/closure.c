@@ -80,10 +80,9 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
       for (j = C->xs[1]; j < C->ce[1]; j++) {
         const short *sole = &C->sole[PSCellIdx(C, C->xs[0], j, k)];
         for (i = 0; i < nrow; i++, n++) {
-          /* (PSCellsPresent's range, from the row's sole) */
-          const PetscInt s = sole[i];
-          eco[n] = s >= 0 ? tot - s : tot;
-          tot += s >= 0 ? 1 : (s == PS_CELL_EMPTY ? 0 : nall);
+          PSCellsSoleRange(sole[i], nall, &m0, &m1); /* (PSCellsPresent's, on the locals) */
+          eco[n] = tot - m0;
+          tot += m1 - m0;
         }
       }
   }
