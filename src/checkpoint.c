@@ -242,9 +242,8 @@ static void CellsPack(PSSolver *S, PetscReal *cb, PetscReal *nb, PetscBool pack)
   for (k = clo[2]; k < chi[2]; k++)
     for (j = clo[1]; j < chi[1]; j++)
       for (i = clo[0]; i < chi[0]; i++, n++) {
-        PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
-        if (pack) memcpy(&cb[n * C->dof], u, C->dof * sizeof(PetscReal));
-        else memcpy(u, &cb[n * C->dof], C->dof * sizeof(PetscReal));
+        if (pack) PSCellsCopyOut(C, PSCellIdx(C, i, j, k), &cb[n * C->dof]);
+        else PSCellsCopyIn(C, PSCellIdx(C, i, j, k), &cb[n * C->dof]);
       }
   n = 0;
   for (k = nlo[2]; k < nhi[2]; k++)

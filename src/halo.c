@@ -26,9 +26,17 @@ static inline PetscInt Owner(const PetscInt *lx, PetscInt P, PetscInt i)
 /* The ghost exchange of a box of N[d] points per direction split among
    nproc[d] ranks by the ranges lx[d] (rank k owns [lx[d][k], lx[d][k+1])),
    each rank holding its points and a ghost layer of width sw (clipped to the
-   box) as a dof-per-point array, x fastest. */
-PetscErrorCode PSHaloCreateBox(MPI_Comm comm, PetscInt dim, const PetscInt N0[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt dof, PetscSF *sf)
+   box), x fastest, in nb + 1 planes: nb planes of bs reals per point, then
+   one of nx reals per point (a dof-per-point array: nb = 1, bs = dof, nx =
+   0; the cells' state: a plane per material, then the per-cell values). */
+static inline PetscInt PlaneIdx(PetscInt np, PetscInt nb, PetscInt bs, PetscInt nx, PetscInt p, PetscInt e)
 {
+  return e < nb * bs ? (e / bs) * np * bs + p * bs + e % bs : nb * np * bs + p * nx + (e - nb * bs);
+}
+
+PetscErrorCode PSHaloCreateBox(MPI_Comm comm, PetscInt dim, const PetscInt N0[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt nb, PetscInt bs, PetscInt nx, PetscSF *sf)
+{
+  const PetscInt dof = nb * bs + nx;
   PetscInt     N[3], gs[3], ge[3], os[3], oe[3], me[3], i, j, k, d, n = 0, nroots;
   PetscInt    *ilocal;
   PetscSFNode *iremote;
@@ -69,9 +77,9 @@ PetscErrorCode PSHaloCreateBox(MPI_Comm comm, PetscInt dim, const PetscInt N0[3]
         }
         ro = ((k - rgs[2]) * rgm[1] + (j - rgs[1])) * rgm[0] + (i - rgs[0]);
         for (e = 0; e < dof; e++) {
-          ilocal[n]        = dof * (((k - gs[2]) * (ge[1] - gs[1]) + (j - gs[1])) * (ge[0] - gs[0]) + (i - gs[0])) + e;
+          ilocal[n]        = PlaneIdx(nroots / dof, nb, bs, nx, ((k - gs[2]) * (ge[1] - gs[1]) + (j - gs[1])) * (ge[0] - gs[0]) + (i - gs[0]), e);
           iremote[n].rank  = r[0] + nproc[0] * (r[1] + nproc[1] * r[2]);
-          iremote[n].index = dof * ro + e;
+          iremote[n].index = PlaneIdx(rgm[0] * rgm[1] * rgm[2], nb, bs, nx, ro, e);
           n++;
         }
       }
@@ -88,7 +96,7 @@ PetscErrorCode PSHaloCreate(PSSolver *S, PetscInt dof, PetscSF *sf)
 
   PetscFunctionBeginUser;
   PetscCall(DMDAGetInfo(S->da, NULL, &N[0], &N[1], &N[2], NULL, NULL, NULL, NULL, &sw, NULL, NULL, NULL, NULL));
-  PetscCall(PSHaloCreateBox(PetscObjectComm((PetscObject)S->da), S->dim, N, S->nproc, S->lx, sw, dof, sf));
+  PetscCall(PSHaloCreateBox(PetscObjectComm((PetscObject)S->da), S->dim, N, S->nproc, S->lx, sw, 1, dof, 0, sf));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -261,7 +261,7 @@ PETSC_EXTERN PetscErrorCode PSSolverCellNodesGet(PSSolver *, PetscInt ns[3], Pet
 PETSC_EXTERN PetscErrorCode PSCheckpointVerify(MPI_Comm, const PSScene *, const char filename[], char msg[], size_t len);
 PETSC_EXTERN PetscReal      PSSolverCFLTimeStep(const PSSolver *);
 PETSC_INTERN PetscErrorCode PSHaloCreate(PSSolver *, PetscInt dof, PetscSF *);
-PETSC_INTERN PetscErrorCode PSHaloCreateBox(MPI_Comm, PetscInt dim, const PetscInt N[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt dof, PetscSF *);
+PETSC_INTERN PetscErrorCode PSHaloCreateBox(MPI_Comm, PetscInt dim, const PetscInt N[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt nb, PetscInt bs, PetscInt nx, PetscSF *);
 PETSC_INTERN PetscErrorCode PSHaloReduce(PetscSF, PetscReal *);
 PETSC_INTERN PetscErrorCode PSHaloBcast(PetscSF, PetscReal *);
 PETSC_EXTERN PetscErrorCode PSMaterialInit(PSMaterial *, const char eos[], const char strength[], const char failure[]);

@@ -103,8 +103,10 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   C->cst[2] = C->gm[0] * C->gm[1];
   C->coff   = C->gs[0] + C->gs[1] * C->cst[1] + C->gs[2] * C->cst[2];
   PetscCall(PetscCalloc1(C->ncl * C->dof, &C->u));
-  PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, C->dof, &C->sfu));
-  PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, 2, &C->sfd));
+  C->mst = C->ncl * C->ms;
+  C->ux  = C->u + C->nmat * C->mst;
+  PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, C->nmat, C->ms, PS_CX_N, &C->sfu));
+  PetscCall(PSHaloCreateBox(comm, S->dim, C->nc, S->nproc, lc, PS_CELL_GHOST, 1, 2, 0, &C->sfd));
   PetscCall(PetscCalloc1(2 * C->ncl, &C->dep));
   /* the cells without ghosts: the same ownership, for HDF5 output and checkpoints */
   for (d = 0; d < 3; d++) {
@@ -312,7 +314,7 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
           if (m[0] <= 1e-14 * C->Vc) continue;
           dm = M->rho0 * m[0];
           if (i >= C->cs[0] && j >= C->cs[1] && k >= C->cs[2]) {
-            blk = &C->u[C->dof * PSCellIdx(C, i, j, k) + B->cellmat * C->ms];
+            blk = PSCellsBlk(C, PSCellIdx(C, i, j, k), B->cellmat);
             blk[PS_CV] += m[0];
             blk[PS_CM] += dm;
             blk[PS_CE] += dm * e0;
@@ -359,9 +361,9 @@ PetscErrorCode PSCellsTotals(PSSolver *S, PetscReal loc[6], PetscReal *pmax)
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
-        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
+        const PetscInt ci = PSCellIdx(C, i, j, k);
         for (m = 0; m < C->nmat; m++) {
-          const PetscReal *blk = &u[m * C->ms];
+          const PetscReal *blk = PSCellsBlk(C, ci, m);
           PetscReal        p, c;
           if (blk[PS_CM] <= 0.0) continue;
           loc[0] += blk[PS_CM];
@@ -409,7 +411,7 @@ PetscErrorCode PSSolverCellsGet(PSSolver *S, PetscInt cs[3], PetscInt cm[3], Pet
   if (!out) PetscFunctionReturn(PETSC_SUCCESS);
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
-      for (i = C->cs[0]; i < C->ce[0]; i++, n++) PetscCall(PetscArraycpy(&out[n * C->dof], &C->u[C->dof * PSCellIdx(C, i, j, k)], C->dof));
+      for (i = C->cs[0]; i < C->ce[0]; i++, n++) PSCellsCopyOut(C, PSCellIdx(C, i, j, k), &out[n * C->dof]);
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -468,10 +470,10 @@ PetscErrorCode PSCellsWrite(PSSolver *S, PetscViewer v, const char *const materi
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++, n++) {
-        const PetscReal *u = &C->u[C->dof * PSCellIdx(C, i, j, k)];
-        PetscReal        Mc = 0.0, Ec = 0.0, pc = 0.0;
+        const PetscInt ci = PSCellIdx(C, i, j, k);
+        PetscReal      Mc = 0.0, Ec = 0.0, pc = 0.0;
         for (m = 0; m < C->nmat; m++) {
-          const PetscReal *blk = &u[m * C->ms];
+          const PetscReal *blk = PSCellsBlk(C, ci, m);
           PetscReal        p, cs;
           a[0][n * C->nmat + m] = blk[PS_CV] / C->Vc;
           Mc += blk[PS_CM];

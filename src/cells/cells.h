@@ -14,7 +14,12 @@
            (deviator, stress components), M_k eps_p, M_k T
   then per cell: the volume fraction of markers (from their volumes), their
   compliance sum_p V_p / K_p, the artificial viscosity q (Pa).  Void is the volume not held by cell materials
-  or markers.  The cell materials' momentum lives on the nodes, P^C_i (a
+  or markers.  Stored material by material: a plane of ms reals per ghosted
+  cell for each material (PSCellsBlk: block (ci, k) at C->u + ci ms + k mst),
+  then a plane of PS_CX_N per-cell values (C->ux, PSCellsX).  A cell holds
+  one material nearly everywhere, and a loop over cells reads that
+  material's plane alone: its bytes, not nmat blocks per cell (a pass of the
+  quadrants' four gases streamed 128 bytes per cell, now 56).  The cell materials' momentum lives on the nodes, P^C_i (a
   staggered grid: thermodynamics in cells, velocity at nodes, like the
   markers' grid; CTH, Benson 1992), so cells and markers share one nodal
   velocity and one momentum solve.
@@ -65,13 +70,15 @@ typedef struct PSCells_ {
   PetscInt  ns;                   /* stress components (4 in 2D, 6 in 3D) */
   PetscInt  ms;                   /* reals per material block: 3 + nq */
   PetscInt  dof;                  /* reals per cell: nmat ms + PS_CX_N */
+  PetscInt  mst;                  /* reals between a cell's blocks of two successive materials: the plane's, ncl ms */
   PetscInt  nc[3];                /* cells per direction */
   PetscInt  cs[3], ce[3];         /* owned cells [cs, ce) */
   PetscInt  gs[3], gm[3];         /* ghosted cell box: corner and size */
   PetscInt  cst[3], coff;         /* its strides (1, gm[0], gm[0] gm[1]) and the index of cell (0, 0, 0) in it, negated (PSCellIdx) */
   PetscInt  xs[3], xm[3];         /* the cells around the owned nodes: corner and size (PSCellsXIdx) */
   PetscInt  ncl;                  /* cells in the ghosted box */
-  PetscReal *u;                   /* the ghosted cell array, ncl x dof */
+  PetscReal *u;                   /* the ghosted cell array, ncl x dof: nmat planes of ncl x ms, then ncl x PS_CX_N */
+  PetscReal *ux;                  /* its per-cell plane, u + nmat mst */
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance; then the fit's discarded mass */
   PetscBool dep_dirty;            /* dep holds a discard (else it is all zero, and the fit need not zero it) */
@@ -215,16 +222,46 @@ static inline PetscInt PSCellsOwnedCorners(const PSIndex *ix, PetscInt dim, Pets
   return PSCellsOwnedRow(ix, dim, j, k) & PSCellsOwnedAxis(ix, 0, i);
 }
 
+/* ghosted cell ci's block of material m, and its per-cell values */
+static inline PetscReal *PSCellsBlk(const PSCells *C, PetscInt ci, PetscInt m)
+{
+  return C->u + C->ms * ci + C->mst * m;
+}
+
+static inline PetscReal *PSCellsX(const PSCells *C, PetscInt ci)
+{
+  return C->ux + PS_CX_N * ci;
+}
+
+/* ghosted cell ci's dof reals, cell by cell (material blocks in order, then
+   the per-cell values: the layout of C->dac, output and checkpoints), out of
+   the planes and back */
+static inline void PSCellsCopyOut(const PSCells *C, PetscInt ci, PetscReal *out)
+{
+  PetscInt m, q;
+  for (m = 0; m < C->nmat; m++)
+    for (q = 0; q < C->ms; q++) out[m * C->ms + q] = PSCellsBlk(C, ci, m)[q];
+  for (q = 0; q < PS_CX_N; q++) out[C->nmat * C->ms + q] = PSCellsX(C, ci)[q];
+}
+
+static inline void PSCellsCopyIn(PSCells *C, PetscInt ci, const PetscReal *in)
+{
+  PetscInt m, q;
+  for (m = 0; m < C->nmat; m++)
+    for (q = 0; q < C->ms; q++) PSCellsBlk(C, ci, m)[q] = in[m * C->ms + q];
+  for (q = 0; q < PS_CX_N; q++) PSCellsX(C, ci)[q] = in[C->nmat * C->ms + q];
+}
+
 /* ghosted cell ci's mass M_c (the sum over its materials, in order) and its
    materials with mass, into C->Mcell and C->sole */
 static inline void PSCellsCellMass(PSCells *C, PetscInt ci)
 {
-  const PetscReal *u    = &C->u[C->dof * ci];
+  const PetscReal *u    = &C->u[C->ms * ci];
   PetscReal        Mc   = 0.0;
   PetscInt         sole = PS_CELL_EMPTY, m;
   for (m = 0; m < C->nmat; m++) {
-    Mc += u[m * C->ms + PS_CM];
-    if (u[m * C->ms + PS_CM] > 0.0) sole = sole == PS_CELL_EMPTY ? m : PS_CELL_SEVERAL;
+    Mc += u[m * C->mst + PS_CM];
+    if (u[m * C->mst + PS_CM] > 0.0) sole = sole == PS_CELL_EMPTY ? m : PS_CELL_SEVERAL;
   }
   C->Mcell[ci] = Mc;
   C->sole[ci]  = (short)sole;

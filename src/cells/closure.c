@@ -100,11 +100,11 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
     for (j = C->xs[1]; j < C->ce[1]; j++)
       for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
-        const PetscReal *u  = &C->u[C->dof * ci];
+        const PetscReal *u  = &C->u[C->ms * ci];
         PetscReal       *ecn = PSCellsEC(C, n);
         PSCellsPresent(C, ci, &m0, &m1);
         for (m = m0; m < m1; m++) {
-          const PetscReal *blk = &u[m * C->ms];
+          const PetscReal *blk = &u[m * C->mst];
           PetscReal       *ec  = &ecn[PS_EC * m];
           if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
             ec[0] = ec[1] = ec[2] = 0.0;
@@ -119,10 +119,11 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
 
 /* the general case of PSCellsShareVolume (closure.h), which takes a cell with
    one material and no void itself */
-PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
+PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, PetscInt ci, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
 {
-  const PSCells  *C  = S->cells;
-  const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM];
+  const PSCells   *C  = S->cells;
+  const PetscReal *u = &C->u[C->ms * ci], *x = PSCellsX(C, ci);
+  const PetscReal  VM = x[PS_CX_AM] * C->Vc, chiM = x[PS_CX_CM];
   PetscReal       chi[PS_MAX_CELLMAT], p[PS_MAX_CELLMAT], Vm = 0.0, sumchi = 0.0, V0, rest, theta = 1.0, pstar = 0.0, sumd = 0.0;
   PetscInt        m, n = 0;
   PetscBool       hasvoid;
@@ -130,7 +131,7 @@ PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, 
   PetscFunctionBeginUser;
   if (pr) *pr = 0.0;
   for (m = m0; m < m1; m++) {
-    const PetscReal *blk = &u[m * C->ms];
+    const PetscReal *blk = &u[m * C->mst];
     dVk[m] = chi[m] = p[m] = 0.0;
     if (dVr) dVr[m] = 0.0;
     if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) continue;
@@ -144,7 +145,7 @@ PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, 
   V0 = PetscMax(C->Vc - Vm - VM, 0.0);
   /* 1. void first, the rest by compliance (closure.h) */
   rest = PSCellsVoidShare(C, dV, &V0);
-  for (m = m0; m < m1; m++) dVk[m] = PSCellsMaterialShare(rest, chi[m], sumchi, chiM, u[m * C->ms + PS_CV]);
+  for (m = m0; m < m1; m++) dVk[m] = PSCellsMaterialShare(rest, chi[m], sumchi, chiM, u[m * C->mst + PS_CV]);
   /* 2. relaxation toward p* (p* = 0 with void) */
   hasvoid = V0 > PS_VOID_ROUNDOFF * C->Vc ? PETSC_TRUE : PETSC_FALSE;
   if (!hasvoid) {
@@ -154,7 +155,7 @@ PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, const PetscReal *u, 
     pstar /= sumchi;
   }
   for (m = m0; m < m1; m++) {
-    const PetscReal *blk = &u[m * C->ms];
+    const PetscReal *blk = &u[m * C->mst];
     PetscReal        d;
     if (chi[m] <= 0.0) continue;
     d = chi[m] * (p[m] - dVk[m] / chi[m] - pstar);
@@ -298,7 +299,7 @@ static PetscErrorCode DepositMarkers(PSSolver *S)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt o  = PSCellIdx(C, i, j, k);
-        PetscReal     *x_ = &C->u[C->dof * o + C->nmat * C->ms];
+        PetscReal     *x_ = PSCellsX(C, o);
         x_[PS_CX_AM] = dep[2 * o];
         x_[PS_CX_CM] = dep[2 * o + 1];
       }
@@ -331,19 +332,19 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt ci = PSCellIdx(C, i, j, k);
-        PetscReal     *u  = &C->u[C->dof * ci];
-        PetscReal      Vm = 0.0, room = C->Vc * PetscMax(1.0 - u[C->nmat * C->ms + PS_CX_AM], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
+        PetscReal     *u  = &C->u[C->ms * ci];
+        PetscReal      Vm = 0.0, room = C->Vc * PetscMax(1.0 - PSCellsX(C, ci)[PS_CX_AM], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
         PetscInt       m0, m1;
         PSCellsPresent(C, ci, &m0, &m1); /* (the others hold no mass) */
         for (m = m0; m < m1; m++)
-          if (u[m * C->ms + PS_CM] > 0.0) Vm += u[m * C->ms + PS_CV];
+          if (u[m * C->mst + PS_CM] > 0.0) Vm += u[m * C->mst + PS_CV];
         over = Vm - room;
         if (over <= 1e-12 * C->Vc) continue; /* room enough (nearly every cell): no EOS needed */
         nfit++;
         for (m = 0; m < C->nmat; m++) {
           chi[m] = 0.0;
-          if (u[m * C->ms + PS_CM] <= 0.0) continue;
-          PetscCall(Compliance(S, m, &u[m * C->ms], &chi[m], &pk[m]));
+          if (u[m * C->mst + PS_CM] <= 0.0) continue;
+          PetscCall(Compliance(S, m, &u[m * C->mst], &chi[m], &pk[m]));
           sumchi += chi[m];
         }
         if (sumchi <= 0.0) continue;
@@ -353,7 +354,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
            material's */
         if (Vm < PS_CROWD * C->Vc && room < Vm) {
           for (m = 0; m < C->nmat; m++) {
-            PetscReal *blk = &u[m * C->ms];
+            PetscReal *blk = &u[m * C->mst];
             PetscInt   q;
             dep[2 * PSCellIdx(C, i, j, k)] += blk[PS_CM];
             C->dep_dirty = PETSC_TRUE;
@@ -373,7 +374,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
         if (S->contact && ContactZone(S, &ix, i, j, k)) {
           const PetscReal phi = PetscMin(over / Vm, 1.0);
           for (m = 0; m < C->nmat; m++) {
-            PetscReal *blk = &u[m * C->ms];
+            PetscReal *blk = &u[m * C->mst];
             PetscInt   q;
             dep[2 * PSCellIdx(C, i, j, k)] += phi * blk[PS_CM];
             C->dep_dirty = PETSC_TRUE;
@@ -388,10 +389,10 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
            step (the trapezoidal energy update stays accurate); the rest
            waits for the next */
         for (m = 0; m < C->nmat; m++)
-          if (chi[m] > 0.0) over = PetscMin(over, 0.2 * u[m * C->ms + PS_CV] * sumchi / chi[m]);
+          if (chi[m] > 0.0) over = PetscMin(over, 0.2 * u[m * C->mst + PS_CV] * sumchi / chi[m]);
         for (m = 0; m < C->nmat; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
-          PetscReal        *blk = &u[m * C->ms];
+          PetscReal        *blk = &u[m * C->mst];
           PetscReal         dVm, V1, A, B, c2, e1, p1;
           if (chi[m] <= 0.0) continue;
           dVm = -over * chi[m] / sumchi;

@@ -69,7 +69,7 @@ static inline PetscReal PSCellsMaterialShare(PetscReal rest, PetscReal chi, Pets
   return sumchi > 0.0 ? PetscMax(rest * chi / (sumchi + chiM), -0.5 * V) : 0.0;
 }
 
-PETSC_INTERN PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr);
+PETSC_INTERN PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *, PetscInt ci, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr);
 
 /* The volume change dV (m^3) of a cell with materials [m0, m1)
    (PSCellsPresent) shared: dVk[m] each material's, dVr[m] its part that is
@@ -79,14 +79,15 @@ PETSC_INTERN PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *, const Pe
    the general case comes down to part 1 with one material (sumchi = chi)
    and no relaxation, done here with the same pieces, without its loops or
    a call (the cells' Lagrangian phases call
-   it twice per cell and step); anything else, the general case. */
-static inline PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscReal *u, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
+   it twice per cell and step); anything else, the general case.  ci: the
+   ghosted cell's index. */
+static inline PetscErrorCode PSCellsShareVolume(const PSSolver *S, PetscInt ci, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
 {
   const PSCells   *C   = S->cells;
-  const PetscReal *blk = &u[m0 * C->ms];
+  const PetscReal *blk = PSCellsBlk(C, ci, m0);
 
   if (m1 == m0 + 1 && blk[PS_CM] > 0.0 && blk[PS_CV] > 0.0) {
-    const PetscReal VM = u[C->nmat * C->ms + PS_CX_AM] * C->Vc, chiM = u[C->nmat * C->ms + PS_CX_CM], chi = ec[PS_EC * m0 + 2];
+    const PetscReal *x = PSCellsX(C, ci), VM = x[PS_CX_AM] * C->Vc, chiM = x[PS_CX_CM], chi = ec[PS_EC * m0 + 2];
     PetscReal       V0 = PetscMax(C->Vc - blk[PS_CV] - VM, 0.0), rest = PSCellsVoidShare(C, dV, &V0);
     if (V0 <= PS_VOID_ROUNDOFF * C->Vc) {
       dVk[m0] = PSCellsMaterialShare(rest, chi, chi, chiM, blk[PS_CV]);
@@ -95,7 +96,7 @@ static inline PetscErrorCode PSCellsShareVolume(const PSSolver *S, const PetscRe
       return PETSC_SUCCESS;
     }
   }
-  return PSCellsShareVolumeGeneral(S, u, ec, m0, m1, dV, dVk, dVr, pr);
+  return PSCellsShareVolumeGeneral(S, ci, ec, m0, m1, dV, dVk, dVr, pr);
 }
 
 #endif

@@ -94,7 +94,7 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
   PetscInt m;
   if (m1 == m0 + 1) {
     /* one material (nearly every cell): the loops below, unrolled */
-    const PetscReal M = u[m0 * C->ms + PS_CM], V = u[m0 * C->ms + PS_CV];
+    const PetscReal M = u[m0 * C->mst + PS_CM], V = u[m0 * C->mst + PS_CV];
     *Mc   = PetscMax(M, 0.0);
     *Vm   = PetscMax(V, 0.0);
     *cmax = M > 0.0 && V >= PS_TRACE * *Vm ? PetscMax(0.0, ec[PS_EC * m0 + 1]) : 0.0;
@@ -102,11 +102,11 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
   }
   *Mc = *Vm = *cmax = 0.0;
   for (m = m0; m < m1; m++) {
-    *Mc += PetscMax(u[m * C->ms + PS_CM], 0.0);
-    *Vm += PetscMax(u[m * C->ms + PS_CV], 0.0);
+    *Mc += PetscMax(u[m * C->mst + PS_CM], 0.0);
+    *Vm += PetscMax(u[m * C->mst + PS_CV], 0.0);
   }
   for (m = m0; m < m1; m++)
-    if (u[m * C->ms + PS_CM] > 0.0 && u[m * C->ms + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
+    if (u[m * C->mst + PS_CM] > 0.0 && u[m * C->mst + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
 /* the cells' mass and force to the nodes: dim and strength constants where
@@ -136,7 +136,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
     for (j = C->xs[1]; j < C->ce[1]; j++)
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
-        const PetscReal *u  = &C->u[C->dof * ci];
+        const PetscReal *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n);
         const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
@@ -150,7 +150,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
           for (d = 0; d < 3; d++) sig[d][d] -= Vm * pf;
         }
         for (m = m0; m < m1; m++) {
-          const PetscReal *blk = &u[m * C->ms];
+          const PetscReal *blk = &u[m * C->mst];
           if (blk[PS_CM] <= 0.0) continue;
           if (strength) {
             const PetscReal *sm = &blk[PS_CQ], im = 1.0 / blk[PS_CM];
@@ -164,7 +164,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
             } else sig[0][1] = sig[1][0] = sig[0][1] + blk[PS_CV] * sm[3] * im;
           }
         }
-        for (d = 0; d < 3; d++) sig[d][d] -= Vm * u[C->nmat * C->ms + PS_CX_Q];
+        for (d = 0; d < 3; d++) sig[d][d] -= Vm * PSCellsX(C, ci)[PS_CX_Q];
         /* the hourglass rates of the cell materials' nodal velocities (kept in
            the cell's slot for g_m^h, C->hs, where the predictor reads them as
            the rates at t^n before it writes g_m^h); the corners' mass and force */
@@ -343,7 +343,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
     for (j = C->xs[1]; j < C->ce[1]; j++)
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k);
-        const PetscReal *u  = &C->u[C->dof * ci];
+        const PetscReal *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n);
         PetscReal       *hmn = PSCellsHM(C, n, hmat), *qh = &C->hs[hsd * n], *gh = qh + 1;
         const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
@@ -356,10 +356,10 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         CellGradient(&C->K, oc, C->vh, L, &vmax);
         trD = L[0][0] + L[1][1] + L[2][2];
         dVh = 0.5 * C->Vc * dt * trD;
-        PetscCall(PSCellsShareVolume(S, u, ec, m0, m1, dVh, dVk, NULL, NULL));
+        PetscCall(PSCellsShareVolume(S, ci, ec, m0, m1, dVh, dVk, NULL, NULL));
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
-          const PetscReal  *blk = &u[m * C->ms];
+          const PetscReal  *blk = &u[m * C->mst];
           PetscReal        *pk = &hmn[m * hmat], *sk = pk + 1, A, B, c2, e1, V1, J;
           /* (only the materials with mass read it: the Lagrangian phase; a
              material without strength has p alone, without GCC's call of memset) */
@@ -374,11 +374,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
                (1 + (gamma - 1) dV / (2 V1)), p = (gamma - 1) E1 / V1: two
                divisions instead of seven (the same values to round-off) */
             const PetscReal dV = V1 - blk[PS_CV], iV1 = 1.0 / V1;
-            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + u[C->nmat * C->ms + PS_CX_Q])) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
+            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + PSCellsX(C, ci)[PS_CX_Q])) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
           } else {
             J = M->rho0 * V1 / blk[PS_CM];
             PetscCall(PSCellsEOS(M, J, ec[PS_EC * m], (V1 - blk[PS_CV]) / blk[PS_CV], &A, &B, &c2));
-            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, u[C->nmat * C->ms + PS_CX_Q], &e1, &pk[0]);
+            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, PSCellsX(C, ci)[PS_CX_Q], &e1, &pk[0]);
           }
           if (M->gamma > 0.0) pk[0] = PetscMax(pk[0], 0.0); /* an ideal gas holds no tension */
           Vh += V1;
@@ -408,7 +408,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
            weighted mean (PSCellsForcePressure) */
         *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
         {
-          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - u[C->nmat * C->ms + PS_CX_Q];
+          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - PSCellsX(C, ci)[PS_CX_Q];
           for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
@@ -513,7 +513,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt   ci = PSCellIdx(C, i, j, k), n = PSCellsXIdx(C, i, j, k);
-        PetscReal       *u  = &C->u[C->dof * ci];
+        PetscReal       *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n); /* this step's EOS values, from the cells' P2G */
         const PetscReal *hmn = PSCellsHM(C, n, hmat), *hs = &C->hs[hsd * n], qh = hs[0]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
@@ -525,17 +525,17 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
            exactly this back) and its share among materials, markers, void */
         trD = L[0][0] + L[1][1] + L[2][2];
         dV  = C->Vc * dt * trD;
-        u[C->nmat * C->ms + PS_CX_V] = C->Vc + dV;
+        PSCellsX(C, ci)[PS_CX_V] = C->Vc + dV;
         PSCellsPresent(C, ci, &m0, &m1);
         CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
-        PetscCall(PSCellsShareVolume(S, u, ec, m0, m1, dV, dVk, dVr, &pr));
+        PetscCall(PSCellsShareVolume(S, ci, ec, m0, m1, dV, dVk, dVr, &pr));
         /* artificial viscosity of the cell (compression only) at v^{n+1/2}, for
            the next step's force (this step's energy takes the half step's q^h,
            whose force the nodes felt) */
         rho                        = Mc / Vm;
         q                          = PSViscosity(rho, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
-        u[C->nmat * C->ms + PS_CX_Q] = q;
+        PSCellsX(C, ci)[PS_CX_Q] = q;
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
@@ -549,7 +549,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         /* each material: energy, pressure, deviator */
         for (m = m0; m < m1; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
-          PetscReal        *blk = &u[m * C->ms];
+          PetscReal        *blk = &u[m * C->mst];
           const PetscReal  *pk  = &hmn[m * hmat], *sk = pk + 1;
           PetscReal         wdev = 0.0, wh = 0.0, V1, E1;
           if (blk[PS_CM] <= 0.0) continue;
@@ -619,7 +619,7 @@ PetscErrorCode PSCellsMaxSpeed(PSSolver *S)
         PetscReal      Mc, Vm, cmax, vmax = 0.0;
         PetscInt       m0, m1;
         PSCellsPresent(C, ci, &m0, &m1); /* (the EOS cache holds these alone) */
-        CellMix(C, &C->u[C->dof * ci], PSCellsEC(C, PSCellsXIdx(C, i, j, k)), m0, m1, &Mc, &Vm, &cmax);
+        CellMix(C, &C->u[C->ms * ci], PSCellsEC(C, PSCellsXIdx(C, i, j, k)), m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         for (a = 0; a < C->K.nco; a++) {
           const PetscInt o  = CellNode(&ix, S->dim, i, j, k) + C->K.off[a];

@@ -81,9 +81,9 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
   if (!C->sS) PetscCall(PetscMalloc2(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP));
   {
     const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
-    const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, dof = C->dof;
+    const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst;
     const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
-    const PetscReal    Vc = C->Vc, *U = C->u;
+    const PetscReal    Vc = C->Vc, *U = C->u, *X = C->ux;
     const short       *Sole = C->sole;
     PetscReal         *A = fr->A, *sS = C->sS;
     short             *sP = C->sP;
@@ -93,13 +93,14 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
           /* the nearest cell of the ghosted box */
           const PetscInt   g[3] = {PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), PetscMin(PetscMax(j + o[1], gs[1]), gl[1]), dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0};
           const PetscInt   ci = g[0] + g[1] * cst1 + g[2] * cst2 - coff, sole = Sole[ci]; /* PSCellIdx */
-          const PetscReal *u = &U[dof * ci], V = u[nm * ms + PS_CX_V];
+          const PetscReal *u = &U[ms * ci], *x = &X[PS_CX_N * ci], V = x[PS_CX_V];
           PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
+          PetscInt         m0, m1;
           /* a cell with one material with mass: its density and the advected
              quantities per unit mass, which the faces around it read three
              times a sweep (donor, and neighbour of each side's donor) */
           if (sole >= 0) {
-            const PetscReal *blk = &u[sole * ms];
+            const PetscReal *blk = &u[sole * mst];
             PetscReal       *sp  = &sS[(ms - 1) * ci];
             sp[0] = blk[PS_CM] / blk[PS_CV];
             if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
@@ -108,17 +109,21 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
           }
           /* (one division per cell, not one per participant) */
           const PetscReal iV = 1.0 / V;
-          acc  = PetscMin(u[nm * ms + PS_CX_AM] * Vc * iV, 1.0);
+          acc  = PetscMin(x[PS_CX_AM] * Vc * iV, 1.0);
           a[0] = acc;
+          /* the materials present add their volume; the others hold none (a
+             material without mass is zeroed where it loses it: adding their
+             0 changed no sum), and their planes are not read */
+          PSCellsSoleRange(sole, nm, &m0, &m1);
           for (m = 0; m < nm; m++) {
-            acc += u[m * ms + PS_CV] * iV;
+            if (m >= m0 && m < m1) acc += u[m * mst + PS_CV] * iV;
             a[1 + m] = PetscMin(acc, 1.0);
           }
           a[nm + 1] = 1.0;
           /* the material that fills the cell alone, for the faces' fast path
              (FaceRun).  (A copy outside the ghosted cells writes its nearest
              cell's value again: the same) */
-          sP[ci] = (short)(sole >= 0 && a[0] <= 1e-12 && 1.0 - a[nm] <= 1e-12 && u[sole * ms + PS_CV] > 0.999 * V ? sole : -1);
+          sP[ci] = (short)(sole >= 0 && a[0] <= 1e-12 && 1.0 - a[nm] <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1);
         }
   }
   /* none on the ghosted array's two faces along d: their neighbours along d
@@ -142,15 +147,15 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
    current volume; its participants are reconstructed by nested dissection
    (plic.c) with Youngs' normals of the cumulative fractions; the markers'
    and void's part of the slab stays.  A pure donor gives the whole slab to
-   its one material.  Returns the cell material the slab holds alone, or
+   its one material.  V: the donor's volume (m^3).  Returns the cell material the slab holds alone, or
    PS_SLAB_MIXED (several participants), or PS_SLAB_NONE (no cell material). */
 #define PS_SLAB_MIXED (-1)
 #define PS_SLAB_NONE  (-2)
-static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscReal *a, const PetscReal *u, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
+static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscReal *a, PetscReal V, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
 {
   const PSCells  *C = S->cells;
   const PetscInt  dim = S->dim, nm = C->nmat;
-  const PetscReal V = u[nm * C->ms + PS_CX_V], A = C->Vc / S->h[d];
+  const PetscReal A = C->Vc / S->h[d];
   PetscReal        alpha[PS_PLIC_MAXMAT], nrm[PS_PLIC_MAXMAT][3], pv[PS_PLIC_MAXMAT], h[3], prev = 0.0;
   PetscInt         part[PS_PLIC_MAXMAT], np = 0, k, m;
   PSPlicCell       cell;
@@ -242,9 +247,9 @@ static void SweepDirs(const PSCells *C, const PSIndex *ix, PetscInt dim, PetscIn
 static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal *F, PetscInt *R)
 {
   const PSCells  *C = S->cells;
-  const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, d = sw->d;
+  const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d;
   const PetscReal A = C->Vc / S->h[d], *v = C->vh;
-  const PetscReal *ud;
+  const PetscReal *ud, *xd;
   const PetscReal *fa;
   PetscReal        delta = 0.0, vol[PS_MAX_CELLMAT], w, side;
   PetscInt         a, b, c[3], m, m0, m1, q, o0, uc, s;
@@ -267,18 +272,19 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   side = delta > 0.0 ? 1.0 : -1.0;
   if (c[d] < 0 || c[d] >= C->nc[d]) return;
   uc = PSCellIdx(C, c[0], c[1], c[2]);
-  ud = &C->u[dof * uc];
+  ud = &C->u[ms * uc];
+  xd = PSCellsX(C, uc);
   fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (c[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (c[2] - fr->o[2]) * fr->s[2] : 0)];
-  w  = PetscMin(PetscAbsReal(delta) * A / ud[nm * ms + PS_CX_V], 1.0); /* the slab's share of the donor */
+  w  = PetscMin(PetscAbsReal(delta) * A / xd[PS_CX_V], 1.0); /* the slab's share of the donor */
   /* the materials in the slab.  A donor whose one material with mass fills
      it (no markers, no void above round-off: the others hold no volume) gives
      it the whole slab, as SlabVolumes does (the same value, without its
      search of the participants); else a pure donor's one, or all (vol 0 skips) */
   s = C->sole[uc];
   if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12) {
-    vol[s] = w * ud[nm * ms + PS_CX_V] / A * A;
+    vol[s] = w * xd[PS_CX_V] / A * A;
     m0     = s;
-  } else m0 = SlabVolumes(S, fr, fa, ud, d, (PetscInt)side, w * ud[nm * ms + PS_CX_V] / A, vol);
+  } else m0 = SlabVolumes(S, fr, fa, xd[PS_CX_V], d, (PetscInt)side, w * xd[PS_CX_V] / A, vol);
   m1 = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
   m0 = PetscMax(m0, 0);
   if (m0 < m1) {
@@ -286,7 +292,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     R[1] = m1;
   }
   for (m = m0; m < m1; m++) {
-    const PetscReal *blk = &ud[m * ms], *nb[2] = {NULL, NULL}, *spd, *spn[2] = {NULL, NULL};
+    const PetscReal *blk = &ud[m * mst], *nb[2] = {NULL, NULL}, *spd, *spn[2] = {NULL, NULL};
     PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
     PetscBool        pure;
     if (vol[m] <= 0.0 || blk[PS_CM] <= 0.0) {
@@ -299,7 +305,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     spd = s == m ? &C->sS[(ms - 1) * uc] : NULL;
     rho = spd ? spd[0] : blk[PS_CM] / blk[PS_CV];
     /* van Leer slopes where the donor and its neighbours along d are pure in m */
-    pure = blk[PS_CV] > 0.999 * ud[nm * ms + PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
+    pure = blk[PS_CV] > 0.999 * xd[PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
     for (a = 0; a < 2 && pure; a++) {
       const PetscInt c2 = c[d] + (a ? 1 : -1);
       if (c2 < C->gs[d] || c2 >= C->gs[d] + C->gm[d]) {
@@ -307,12 +313,12 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
         break;
       }
       const PetscInt un = uc + (a ? sw->cd : -sw->cd);
-      nb[a]  = &C->u[dof * un];
+      nb[a]  = &C->u[ms * un + mst * m];
       spn[a] = C->sole[un] == m ? &C->sS[(ms - 1) * un] : NULL;
-      if (nb[a][m * ms + PS_CM] <= 0.0 || nb[a][m * ms + PS_CV] <= 0.999 * nb[a][nm * ms + PS_CX_V]) pure = PETSC_FALSE;
+      if (nb[a][PS_CM] <= 0.0 || nb[a][PS_CV] <= 0.999 * PSCellsX(C, un)[PS_CX_V]) pure = PETSC_FALSE;
     }
     if (pure) {
-      const PetscReal r0 = spn[0] ? spn[0][0] : nb[0][m * ms + PS_CM] / nb[0][m * ms + PS_CV], r1 = spn[1] ? spn[1][0] : nb[1][m * ms + PS_CM] / nb[1][m * ms + PS_CV];
+      const PetscReal r0 = spn[0] ? spn[0][0] : nb[0][PS_CM] / nb[0][PS_CV], r1 = spn[1] ? spn[1][0] : nb[1][PS_CM] / nb[1][PS_CV];
       dM = PetscMin(PetscMax(vol[m] * (rho + off * VanLeer(rho - r0, r1 - rho)), 0.0), blk[PS_CM]);
     } else dM = PetscMin(vol[m] * rho, blk[PS_CM]);
     F[m * ms + PS_CV] = side * vol[m];
@@ -320,7 +326,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     for (q = PS_CE; q < ms; q++) {
       PetscReal s0 = spd ? spd[q - PS_CE + 1] : blk[q] / blk[PS_CM];
       if (pure) {
-        const PetscReal s1 = spn[0] ? spn[0][q - PS_CE + 1] : nb[0][m * ms + q] / nb[0][m * ms + PS_CM], s2 = spn[1] ? spn[1][q - PS_CE + 1] : nb[1][m * ms + q] / nb[1][m * ms + PS_CM];
+        const PetscReal s1 = spn[0] ? spn[0][q - PS_CE + 1] : nb[0][q] / nb[0][PS_CM], s2 = spn[1] ? spn[1][q - PS_CE + 1] : nb[1][q] / nb[1][PS_CM];
         s0 += off * VanLeer(s0 - s1, s2 - s0);
       }
       F[m * ms + q] = side * dM * s0;
@@ -341,7 +347,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
 static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, PetscReal *F, PetscInt *R)
 {
   const PSCells      *C = S->cells;
-  const PetscInt      dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, d = sw->d, cd = sw->cd, sp = ms - 1;
+  const PetscInt      mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, d = sw->d, cd = sw->cd, sp = ms - 1;
   const PetscReal     A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh;
   const short        *fill = C->sP;
   const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d];
@@ -369,8 +375,8 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
        (FractionsBuild's C->sP: FaceFlux's tests for its slopes, and more) */
     s = fill[uc];
     if (s >= 0 && fill[uc - cd] == s && fill[uc + cd] == s) {
-      const PetscReal *ud = &C->u[dof * uc], *blk = &ud[s * ms];
-      const PetscReal  V = ud[nm * ms + PS_CX_V], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
+      const PetscReal *blk = &C->u[ms * uc + mst * s];
+      const PetscReal  V = PSCellsX(C, uc)[PS_CX_V], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
       if (vol > 0.0) {
         const PetscReal *spd = &C->sS[sp * uc], *sp0 = &C->sS[sp * (uc - cd)], *sp1 = &C->sS[sp * (uc + cd)];
         const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
@@ -523,8 +529,8 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
 static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
-  const PetscInt  d = sw->d, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
-  PetscReal      *u = &C->u[C->dof * ci];
+  const PetscInt  d = sw->d, ms = C->ms, mst = C->mst, nm = C->nmat, fs = nm * ms + 2;
+  PetscReal      *u = &C->u[ms * ci], *x = PSCellsX(C, ci);
   PetscInt        m, q, f0, f1, m0, m1;
 
   /* nearly every cell of a single-material region: it holds material s
@@ -534,7 +540,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
      cell's mass is s's and s the one with mass unless it is discarded */
   m = C->sole[ci];
   if (m >= 0 && rl[0] == m && rl[1] == m + 1 && rh[0] == m && rh[1] == m + 1 && i[d] > 0 && i[d] + 1 < C->nc[d]) {
-    PetscReal       *b = &u[m * ms];
+    PetscReal       *b = &u[m * mst];
     const PetscReal *l = &fl[m * ms], *h = &fh[m * ms];
     if (ms == PS_CQ) { /* a block without advected strength (a gas): V, M, E unrolled (the loop, its length known only at run time, took 49 instructions for these three) */
       b[0] += l[0] - h[0];
@@ -542,7 +548,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
       b[2] += l[2] - h[2];
     } else
       for (q = 0; q < ms; q++) b[q] += l[q] - h[q];
-    u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
+    x[PS_CX_V] += fl[nm * ms] - fh[nm * ms];
     DiscardTrace(S, m, b);
     C->Mcell[ci] = b[PS_CM]; /* (PSCellsCellMass's sum: the others add zeros) */
     C->sole[ci]  = (short)(b[PS_CM] > 0.0 ? m : PS_CELL_EMPTY);
@@ -554,9 +560,9 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
   f1 = PetscMax(rl[1], rh[1]);
   for (m = f0; m < f1; m++) {
     const PetscBool inl = m >= rl[0] && m < rl[1] ? PETSC_TRUE : PETSC_FALSE, inh = m >= rh[0] && m < rh[1] ? PETSC_TRUE : PETSC_FALSE;
-    for (q = m * ms; q < (m + 1) * ms; q++) u[q] += (inl ? fl[q] : 0.0) - (inh ? fh[q] : 0.0);
+    for (q = 0; q < ms; q++) u[m * mst + q] += (inl ? fl[m * ms + q] : 0.0) - (inh ? fh[m * ms + q] : 0.0);
   }
-  u[nm * ms + PS_CX_V] += fl[nm * ms] - fh[nm * ms];
+  x[PS_CX_V] += fl[nm * ms] - fh[nm * ms];
   /* with the materials that had mass before the sweep */
   PSCellsPresent(C, ci, &m0, &m1);
   if (m0 < m1) {
@@ -566,7 +572,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
     m0 = f0;
     m1 = f1;
   }
-  for (m = m0; m < m1; m++) DiscardTrace(S, m, &u[m * ms]);
+  for (m = m0; m < m1; m++) DiscardTrace(S, m, &u[m * mst]);
   /* outflow through free faces of the domain */
   if (i[d] == 0 && fl[fs - 1] < 0.0)
     for (m = rl[0]; m < rl[1]; m++) {
@@ -651,7 +657,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
 static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  dof = C->dof, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
+  const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   PetscReal      *F, *K, *VB, *VL, *P = C->P, *Pn = C->Pn;
   PetscInt       *R, lo[3], hi[3], i[3], e, m, q, ns;
   PSSweepDirs     sw;
@@ -826,14 +832,14 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
         const PetscInt ci = PSCellIdx(C, i[0], i[1], i[2]), o0 = Node(ix, dim, i);
-        PetscReal     *u  = &C->u[dof * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
+        PetscReal     *u  = &C->u[ms * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
         PetscInt       c, m0, m1;
         if (Mc <= 0.0) continue;
         /* (a node without mass holds d_i = 0: above, and its owner's value
            on the ghosts) */
         for (c = 0; c < (1 << dim); c++) dE += VL[dim * (o0 + C->K.off[c])]; /* per unit of the cell's mass */
         PSCellsPresent(C, ci, &m0, &m1); /* as found after the sweep */
-        for (m = m0; m < m1; m++) u[m * ms + PS_CE] += dE * u[m * ms + PS_CM];
+        for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
         C->remap_heat += dE * Mc;
       }
 
