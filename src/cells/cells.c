@@ -126,7 +126,9 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
      through the wrong pointer after an odd number of sweeps, as in 3D) */
   PetscCall(PetscCalloc1(nn * S->dim, &C->P));
   PetscCall(PetscCalloc1(nn * S->dim, &C->Pn));
-  PetscCall(PetscCalloc2(nn, &C->mcn, nn * S->dim, &C->vh));
+  PetscCall(PetscCalloc1(nn, &C->mcn)); /* mcn and mco apart: the remap's sweeps swap them */
+  PetscCall(PetscCalloc1(nn, &C->mco));
+  PetscCall(PetscCalloc1(nn * S->dim, &C->vh));
   PetscCall(PetscCalloc1(C->ncl, &C->Mcell));
   PetscCall(PetscMalloc1(C->ncl, &C->sole));
   CornersBuild(S, C, &ix, &C->K);
@@ -136,6 +138,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
     PetscCall(PetscMalloc3(PetscMax(1, nx * PSCellsHalfSize(C)), &C->hs, nn * S->dim, &C->vo, nn * S->dim, &C->df)); /* the predictor's (lagrange.c) */
   }
   PetscCall(PSHaloCreate(S, S->dim, &C->sfp));
+  PetscCall(PSHaloCreate(S, 1, &C->sfk));
   S->cells = C;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -147,7 +150,9 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->u));
   PetscCall(PetscFree((*C)->P));
   PetscCall(PetscFree((*C)->Pn));
-  PetscCall(PetscFree2((*C)->mcn, (*C)->vh));
+  PetscCall(PetscFree((*C)->mcn));
+  PetscCall(PetscFree((*C)->mco));
+  PetscCall(PetscFree((*C)->vh));
   PetscCall(PetscFree((*C)->Mcell));
   PetscCall(PetscFree((*C)->sole));
   PetscCall(PetscFree3((*C)->hs, (*C)->vo, (*C)->df));
@@ -160,7 +165,8 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->ec));
   PetscCall(PetscFree((*C)->eco));
   PetscCall(PetscFree((*C)->hm));
-  if ((*C)->sK) PetscCall(PetscFree3((*C)->sK, (*C)->sVB, (*C)->sVL));
+  if ((*C)->sK) PetscCall(PetscFree2((*C)->sK, (*C)->sVL));
+  PetscCall(PetscSFDestroy(&(*C)->sfk));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));
   PetscCall(PetscFree((*C)->Kmat));

@@ -82,7 +82,7 @@ typedef struct PSCells_ {
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance; then the fit's discarded mass */
   PetscBool dep_dirty;            /* dep holds a discard (else it is all zero, and the fit need not zero it) */
-  PetscReal *sF, *sK, *sVB, *sVL, *sA; /* the remap's scratch (remap.c), kept between steps */
+  PetscReal *sF, *sK, *sVL, *sA;  /* the remap's scratch (remap.c), kept between steps */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
   short       *sP;                /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep) */
@@ -95,6 +95,7 @@ typedef struct PSCells_ {
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
   PetscReal *Pn;                  /* scratch of the same size */
   PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
+  PetscReal *mco;                 /* the same before the remap's last sweep (remap.c swaps the two) */
   PetscReal *Mcell;               /* per ghosted cell: its cell materials' mass M_c (kg), as PSCellsNodalMass last summed it */
   short       *sole;              /* per ghosted cell: its one cell material with mass (0..nmat-1), PS_CELL_SEVERAL or PS_CELL_EMPTY (the same sum); a short, not a char: a store through a char pointer may alias anything, and the loops that write it would load every field they use again */
   PetscReal *vh;                  /* the nodal velocity that moves the cells' faces this step, dim per node */
@@ -102,6 +103,7 @@ typedef struct PSCells_ {
   PetscReal *df;                  /* the corrector's change of the cells' nodal force, dim per node */
   PetscReal *hs;                  /* per cell around the owned nodes: the predictor's half-step values q^h and hourglass rates (lagrange.c) */
   PetscSF   sfp;                  /* ghost exchange of P (halo.c) */
+  PetscSF   sfk;                  /* ... of one real per node (the remap's KE fix) */
   PetscInt  nnl;                  /* local nodes */
   PetscReal Vc;                   /* cell volume (m^3; m^2 in 2D) */
   PetscReal hourglass;            /* hourglass viscosity coefficient (-) */

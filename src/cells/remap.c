@@ -202,7 +202,7 @@ static PetscErrorCode ScratchSize(PSCells *C, PetscInt nface, PetscInt fs)
     PetscCall(PetscMalloc2(nface * fs, &C->sF, 2 * nface, &C->sR));
     C->nsF = nface * fs;
   }
-  if (!C->sK) PetscCall(PetscMalloc3(C->nnl, &C->sK, 2 * C->dim * C->nnl, &C->sVB, C->dim * C->nnl, &C->sVL));
+  if (!C->sK) PetscCall(PetscMalloc2(C->nnl, &C->sK, C->dim * C->nnl, &C->sVL));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -446,8 +446,9 @@ static inline void MidPlaneVelocity(const PetscInt dim, const PetscReal *vu, con
    lower to its upper corner nodes, shared among the 2^(dim-1) node columns,
    at the upwind node's velocity with a van Leer slope; free faces of the
    domain let the boundary node's share out.  VL, K: the nodes' velocity and
-   kinetic energy before the sweep; Pn, K take the owned nodes' change */
-static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal Flo, PetscReal Fhi, const PetscReal *VL, PetscReal *Pn, PetscReal *K)
+   kinetic energy before the sweep; P (the nodal momentum) and K take the
+   owned nodes' change */
+static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal Flo, PetscReal Fhi, const PetscReal *VL, PetscReal *P, PetscReal *K)
 {
   const PSCells  *C = S->cells;
   const PetscInt  d = sw->d, t1 = sw->t1, t2 = sw->t2, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2;
@@ -486,15 +487,15 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
       if (!(OwnedIndex(ix, t1, i[t1] + b) && (dim < 3 || OwnedIndex(ix, t2, i[t2] + a)))) continue;
       MidPlaneVelocity(dim, vu, vd, vb, g, vf, &v2);
       if (own0) {
-        for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
+        for (q = 0; q < dim; q++) P[dim * oL + q] -= phi * vf[q];
         K[oL] -= phi * 0.5 * v2;
         /* free faces of the domain: outflow takes the boundary node's share */
-        if (bl) Outflow(S, dim, -Flo / ncol, vL, &Pn[dim * oL], &K[oL]);
+        if (bl) Outflow(S, dim, -Flo / ncol, vL, &P[dim * oL], &K[oL]);
       }
       if (own1) {
-        for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
+        for (q = 0; q < dim; q++) P[dim * oU + q] += phi * vf[q];
         K[oU] += phi * 0.5 * v2;
-        if (bu) Outflow(S, dim, Fhi / ncol, vU, &Pn[dim * oU], &K[oU]);
+        if (bu) Outflow(S, dim, Fhi / ncol, vU, &P[dim * oU], &K[oU]);
       }
     }
 }
@@ -596,7 +597,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
    depends on x only through a range, found once per run) takes DualFlux's
    arithmetic here, in its order, without its per-cell and per-column tests;
    any other takes DualFlux itself */
-static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *Pn, PetscReal *K)
+static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *P, PetscReal *K)
 {
   const PSCells  *C = S->cells;
   const PetscInt  d = sw->d, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2, fs = C->nmat * C->ms + 2;
@@ -635,15 +636,15 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
             const PetscReal *vb = C->mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
             PetscReal        vf[3], v2;
             MidPlaneVelocity(dim, vu, vd, vb, g, vf, &v2);
-            for (q = 0; q < dim; q++) Pn[dim * oL + q] -= phi * vf[q];
+            for (q = 0; q < dim; q++) P[dim * oL + q] -= phi * vf[q];
             K[oL] -= phi * 0.5 * v2;
-            for (q = 0; q < dim; q++) Pn[dim * oU + q] += phi * vf[q];
+            for (q = 0; q < dim; q++) P[dim * oU + q] += phi * vf[q];
             K[oU] += phi * 0.5 * v2;
           }
       }
     } else {
       const PetscInt j[3] = {x, j0[1], j0[2]};
-      DualFlux(S, ix, sw, dim, j, Flo, Fhi, VL, Pn, K);
+      DualFlux(S, ix, sw, dim, j, Flo, Fhi, VL, P, K);
     }
     if (owned && x >= C->cs[0]) {
       const PetscInt j[3] = {x, j0[1], j0[2]};
@@ -658,7 +659,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
 {
   PSCells        *C = S->cells;
   const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
-  PetscReal      *F, *K, *VB, *VL, *P = C->P, *Pn = C->Pn;
+  PetscReal      *F, *K, *VL, *P = C->P;
   PetscInt       *R, lo[3], hi[3], i[3], e, m, q, ns;
   PSSweepDirs     sw;
 
@@ -677,48 +678,22 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   F  = C->sF;
   R  = C->sR;
   K  = C->sK;
-  VB = C->sVB;
   VL = C->sVL;
   PetscCall(FractionsBuild(C, fr, d));
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
-     upper corner nodes; free faces let the nodes' share out.  Velocities
-     (VL) and kinetic energies (K) before the sweep, over every local node. */
+     upper corner nodes, added into P; free faces let the nodes' share out.
+     Velocities (VL) and kinetic energies (K) before the sweep, over every
+     local node (VL is kept through the sweep: the KE fix below takes the
+     bounds of the remapped velocity from it) */
   for (e = 0; e < C->nnl; e++) {
     const PetscReal im = C->mcn[e] > 0.0 ? 1.0 / C->mcn[e] : 0.0;
     PetscReal       p2 = 0.0;
     for (q = 0; q < dim; q++) {
-      Pn[dim * e + q] = P[dim * e + q];
       VL[dim * e + q] = P[dim * e + q] * im;
       p2 += P[dim * e + q] * P[dim * e + q];
     }
     K[e] = 0.5 * p2 * im;
   }
-  /* the range of each velocity component over a node and its neighbours along
-     d before the sweep: the remapped velocity must stay in it */
-  for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
-    for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
-      for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
-        const PetscInt o = Lidx(ix, i[0], i[1], i[2]);
-        PetscReal      lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
-        PetscInt       k;
-        /* without branches: a node outside the local array or without mass
-           offers the bounds' own start, which changes neither (the node
-           itself, owned, is in it) */
-        const PetscBool inm = i[d] - 1 >= ix->gs[d], inp = i[d] + 1 < ix->gs[d] + ix->gm[d];
-        for (k = -1; k <= 1; k++) {
-          const PetscBool in = k == 0 || (k < 0 ? inm : inp);
-          const PetscInt  o2 = in ? o + k * sw.sd : o;
-          const PetscBool ok = in && C->mcn[o2] > 0.0;
-          for (q = 0; q < dim; q++) {
-            lo[q] = PetscMin(lo[q], ok ? VL[dim * o2 + q] : PETSC_MAX_REAL);
-            hi[q] = PetscMax(hi[q], ok ? VL[dim * o2 + q] : -PETSC_MAX_REAL);
-          }
-        }
-        for (q = 0; q < dim; q++) {
-          VB[2 * dim * o + 2 * q]     = lo[q];
-          VB[2 * dim * o + 2 * q + 1] = hi[q];
-        }
-      }
   PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
   /* faces, the momentum's dual fluxes and the cells' update, slice by slice
      along d (a slice: the faces or cells with one index i_d), within each
@@ -740,7 +715,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
       for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
         j[0] = lo[0];
         FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, R);
-        CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[fs], R, &R[2], VL, Pn, K);
+        CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[fs], R, &R[2], VL, P, K);
       }
   } else {
     PetscInt lead, ol[3], oh[3], c;
@@ -776,58 +751,79 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
               SliceRange(d, lo, hi, j, jl, jh);
               for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
                 j[0] = jl[0];
-                CellRun(S, ix, &sw, dim, j, jh[0] - jl[0], &Fl[fs * n], &Fh[fs * n], &Rl[2 * n], &Rh[2 * n], VL, Pn, K);
+                CellRun(S, ix, &sw, dim, j, jh[0] - jl[0], &Fl[fs * n], &Fh[fs * n], &Rl[2 * n], &Rh[2 * n], VL, P, K);
               }
             }
           }
         }
   }
   PetscCall(PetscLogEventEnd(EV_Flux, 0, 0, 0, 0));
-  /* the cells' new state to the ghosts; the new nodal masses */
+  /* the cells' new state to the ghosts; the new nodal masses into mcn, the
+     ones before the sweep kept in mco (the velocity bounds below) */
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
   PetscCall(PSCellsExchange(C));
-  PetscCall(PSCellsNodalMass(S, ix, PETSC_TRUE)); /* the owned cells' masses: CellUpdate */
+  {
+    PetscReal *t = C->mco;
+    C->mco = C->mcn;
+    C->mcn = t;
+  }
+  PetscCall(PSCellsNodalMass(S, ix, PETSC_TRUE)); /* the owned cells' masses: CellUpdate; every local node's m^C_i */
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_KE, 0, 0, 0, 0));
   /* the new nodal momentum on the owned nodes: its velocity kept within the
-     range it came from (a node the sweep nearly empties divides a remainder
-     of round-off size by a mass of round-off size; and without mass no
-     momentum), what is cut booked as lost; then the boundary conditions (a
-     wall takes the momentum into it).  With it, the kinetic energy carried
-     minus that of the remapped momentum, d_i per owned node, into the first
-     component of the scratch VL (free since the fluxes), as d_i / (2^dim m_i),
-     for the cells below */
+     range of each component over the node and its neighbours along d before
+     the sweep (VL, with the masses before it, mco: a node the sweep nearly
+     empties divides a remainder of round-off size by a mass of round-off
+     size; and without mass no momentum), what is cut booked as lost; then
+     the boundary conditions (a wall takes the momentum into it).  With it,
+     the kinetic energy carried minus that of the remapped momentum, d_i per
+     owned node, into K (its own node's value is read first), as
+     d_i / (2^dim m_i), for the cells below */
   for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
     for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
       for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
-        const PetscInt o     = Lidx(ix, i[0], i[1], i[2]);
-        const PetscInt ip[3] = {i[0] - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
-        for (q = 0; q < dim; q++) {
-          PetscReal pq = Pn[dim * o + q];
-          if (C->mcn[o] <= S->mass_min) pq = 0.0;
-          else if (VB[2 * dim * o + 2 * q] <= VB[2 * dim * o + 2 * q + 1]) pq = C->mcn[o] * PetscMin(PetscMax(pq / C->mcn[o], VB[2 * dim * o + 2 * q]), VB[2 * dim * o + 2 * q + 1]);
-          S->lost_local.p[q] += Pn[dim * o + q] - pq;
-          Pn[dim * o + q] = pq;
+        const PetscInt  o     = Lidx(ix, i[0], i[1], i[2]);
+        const PetscInt  ip[3] = {i[0] - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
+        const PetscReal mn    = C->mcn[o];
+        PetscReal       lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+        PetscInt        k;
+        /* the bounds, without branches: a node outside the local array or
+           without mass offers the bounds' own start, which changes neither
+           (the node itself, owned, is in it) */
+        const PetscBool inm = i[d] - 1 >= ix->gs[d], inp = i[d] + 1 < ix->gs[d] + ix->gm[d];
+        for (k = -1; k <= 1; k++) {
+          const PetscBool in = k == 0 || (k < 0 ? inm : inp);
+          const PetscInt  o2 = in ? o + k * sw.sd : o;
+          const PetscBool ok = in && C->mco[o2] > 0.0;
+          for (q = 0; q < dim; q++) {
+            lo[q] = PetscMin(lo[q], ok ? VL[dim * o2 + q] : PETSC_MAX_REAL);
+            hi[q] = PetscMax(hi[q], ok ? VL[dim * o2 + q] : -PETSC_MAX_REAL);
+          }
         }
-        PSNodeBCDim(S, dim, ip, &Pn[dim * o]);
-        VL[dim * o] = 0.0;
-        if (C->mcn[o] > 0.0) {
-          PetscReal p2 = 0.0;
-          for (q = 0; q < dim; q++) p2 += Pn[dim * o + q] * Pn[dim * o + q];
-          VL[dim * o] = (K[o] - 0.5 * p2 / C->mcn[o]) / ((1 << dim) * C->mcn[o]);
+        for (q = 0; q < dim; q++) {
+          PetscReal pq = P[dim * o + q];
+          if (mn <= S->mass_min) pq = 0.0;
+          else if (lo[q] <= hi[q]) pq = mn * PetscMin(PetscMax(pq / mn, lo[q]), hi[q]);
+          S->lost_local.p[q] += P[dim * o + q] - pq;
+          P[dim * o + q] = pq;
+        }
+        PSNodeBCDim(S, dim, ip, &P[dim * o]);
+        {
+          PetscReal dk = 0.0;
+          if (mn > 0.0) {
+            PetscReal p2 = 0.0;
+            for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
+            dk = (K[o] - 0.5 * p2 / mn) / ((1 << dim) * mn);
+          }
+          K[o] = dk;
         }
       }
-  {
-    PetscReal *t = C->P;
-    C->P  = C->Pn;
-    C->Pn = t;
-  }
   PetscCall(PSHaloBcast(C->sfp, C->P));
   /* d_i to the ghosts; then each owned cell takes from each corner the share
      M_c / (2^dim m_i) of d_i, the share it has in the node's mass (the sum
      over cells is the sum over nodes), and each of its materials the share
      M_k / M_c of that */
-  PetscCall(PSHaloBcast(C->sfp, VL));
+  PetscCall(PSHaloBcast(C->sfk, K));
   for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
     for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
       for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
@@ -837,7 +833,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         if (Mc <= 0.0) continue;
         /* (a node without mass holds d_i = 0: above, and its owner's value
            on the ghosts) */
-        for (c = 0; c < (1 << dim); c++) dE += VL[dim * (o0 + C->K.off[c])]; /* per unit of the cell's mass */
+        for (c = 0; c < (1 << dim); c++) dE += K[o0 + C->K.off[c]]; /* per unit of the cell's mass */
         PSCellsPresent(C, ci, &m0, &m1); /* as found after the sweep */
         for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
         C->remap_heat += dE * Mc;
