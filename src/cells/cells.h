@@ -53,6 +53,16 @@ enum { PS_CX_AM = 0, PS_CX_CM = 1, PS_CX_Q = 2, PS_CX_V = 3, PS_CX_N = 4 }; /* m
    Flanagan & Belytschko 1981).  Built once, with the cells (PSCellsCreate),
    so the cells' loops do no index arithmetic, division or branching per
    corner. */
+/* G_m(a) of PSCorners as a constant where a and m are (the loops over a
+   cell's corners unroll): s_0 s_1, s_1 s_2, s_0 s_2, s_0 s_1 s_2 with s_d = +1
+   at the upper node along d, -1 at the lower (CornersBuild's values: +-1,
+   exact, so G v is +-v and kappa G h is +-kappa h, as from the table) */
+static inline PetscReal PSHourglassSign(PetscInt a, PetscInt m)
+{
+  const PetscReal s0 = (a & 1) ? 1.0 : -1.0, s1 = (a & 2) ? 1.0 : -1.0, s2 = (a & 4) ? 1.0 : -1.0;
+  return m == 0 ? s0 * s1 : m == 1 ? s1 * s2 : m == 2 ? s0 * s2 : s0 * s1 * s2;
+}
+
 typedef struct {
   PetscInt  dim, nco;     /* corners */
   PetscInt  off[8];       /* node offsets from corner 0 */

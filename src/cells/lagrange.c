@@ -71,7 +71,7 @@ static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, Pet
   for (a = 0; a < nco; a++) {
     const PetscInt oa = o + K->off[a];
     for (d = 0; d < dim; d++) {
-      for (e = 0; e < nh; e++) hg[e][d] += K->G[a][e] * v[dim * oa + d];
+      for (e = 0; e < nh; e++) hg[e][d] += PSHourglassSign(a, e) * v[dim * oa + d];
     }
   }
 }
@@ -184,7 +184,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
             if (strength)
               for (e = 0; e < dim; e++) fd -= sig[d][e] * C->K.gN[a][e];
             else fd -= sig[d][d] * C->K.gN[a][d];
-            for (e = 0; e < nh; e++) fd -= kap * C->K.G[a][e] * hg[e][d];
+            for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
             gn[fo + d] += fs * fd;
           }
         }
@@ -429,7 +429,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
             if (strength)
               for (e = 0; e < dim; e++) fd -= dsig[d][e] * C->K.gN[a][e];
             else fd -= dsig[d][d] * C->K.gN[a][d];
-            for (e = 0; e < nh; e++) fd -= kap * C->K.G[a][e] * (hgh[e][d] - hg0[e][d]);
+            for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * (hgh[e][d] - hg0[e][d]);
             dfa[d] += fd;
           }
         }
