@@ -265,11 +265,15 @@ PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix, PetscBool owned_
 
   PetscFunctionBeginUser;
   for (k = C->gs[2]; k < C->gs[2] + C->gm[2]; k++)
-    for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++)
+    for (j = C->gs[1]; j < C->gs[1] + C->gm[1]; j++) {
+      /* a row through the owned cells skips them (one test per row) */
+      const PetscBool skip = owned_set && j >= C->cs[1] && j < C->ce[1] && k >= C->cs[2] && k < C->ce[2];
       for (i = C->gs[0]; i < C->gs[0] + C->gm[0]; i++) {
-        if (owned_set && i >= C->cs[0] && i < C->ce[0] && j >= C->cs[1] && j < C->ce[1] && k >= C->cs[2] && k < C->ce[2]) continue;
+        if (skip && i == C->cs[0]) i = C->ce[0];
+        if (i >= C->gs[0] + C->gm[0]) break;
         PSCellsCellMass(C, PSCellIdx(C, i, j, k));
       }
+    }
   PetscCall(NodalMassGather(S, ix));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
