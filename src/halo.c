@@ -26,12 +26,13 @@ static inline PetscInt Owner(const PetscInt *lx, PetscInt P, PetscInt i)
 /* The ghost exchange of a box of N[d] points per direction split among
    nproc[d] ranks by the ranges lx[d] (rank k owns [lx[d][k], lx[d][k+1])),
    each rank holding its points and a ghost layer of width sw (clipped to the
-   box), x fastest, in nb + 1 planes: nb planes of bs reals per point, then
-   one of nx reals per point (a dof-per-point array: nb = 1, bs = dof, nx =
-   0; the cells' state: a plane per material, then the per-cell values). */
+   box), x fastest, in nb planes of bs reals per point, then nx planes of
+   one real per point (a dof-per-point array: nb = 1, bs = dof, nx = 0; the
+   cells' state: a plane per material, then one per per-cell value). */
 static inline PetscInt PlaneIdx(PetscInt np, PetscInt nb, PetscInt bs, PetscInt nx, PetscInt p, PetscInt e)
 {
-  return e < nb * bs ? (e / bs) * np * bs + p * bs + e % bs : nb * np * bs + p * nx + (e - nb * bs);
+  (void)nx;
+  return e < nb * bs ? (e / bs) * np * bs + p * bs + e % bs : nb * np * bs + (e - nb * bs) * np + p;
 }
 
 PetscErrorCode PSHaloCreateBox(MPI_Comm comm, PetscInt dim, const PetscInt N0[3], const PetscInt nproc[3], PetscInt *const lx[3], PetscInt sw, PetscInt nb, PetscInt bs, PetscInt nx, PetscSF *sf)

@@ -16,10 +16,11 @@
   compliance sum_p V_p / K_p, the artificial viscosity q (Pa).  Void is the volume not held by cell materials
   or markers.  Stored material by material: a plane of ms reals per ghosted
   cell for each material (PSCellsBlk: block (ci, k) at C->u + ci ms + k mst),
-  then a plane of PS_CX_N per-cell values (C->ux, PSCellsX).  A cell holds
-  one material nearly everywhere, and a loop over cells reads that
-  material's plane alone: its bytes, not nmat blocks per cell (a pass of the
-  quadrants' four gases streamed 128 bytes per cell, now 56).  The cell materials' momentum lives on the nodes, P^C_i (a
+  then a plane per per-cell value (C->ux, PSCellsX).  A cell holds one
+  material nearly everywhere, and a loop over cells reads that material's
+  plane and the per-cell values it uses alone: their bytes, not nmat blocks
+  per cell (a pass of the quadrants' four gases streamed 128 bytes per cell,
+  now 24 and 8 for each per-cell value it reads).  The cell materials' momentum lives on the nodes, P^C_i (a
   staggered grid: thermodynamics in cells, velocity at nodes, like the
   markers' grid; CTH, Benson 1992), so cells and markers share one nodal
   velocity and one momentum solve.
@@ -88,7 +89,7 @@ typedef struct PSCells_ {
   PetscInt  xs[3], xm[3];         /* the cells around the owned nodes: corner and size (PSCellsXIdx) */
   PetscInt  ncl;                  /* cells in the ghosted box */
   PetscReal *u;                   /* the ghosted cell array, ncl x dof: nmat planes of ncl x ms, then ncl x PS_CX_N */
-  PetscReal *ux;                  /* its per-cell plane, u + nmat mst */
+  PetscReal *ux;                  /* its per-cell planes, u + nmat mst: PS_CX_N of ncl reals */
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance; then the fit's discarded mass */
   PetscBool dep_dirty;            /* dep holds a discard (else it is all zero, and the fit need not zero it) */
@@ -234,15 +235,15 @@ static inline PetscInt PSCellsOwnedCorners(const PSIndex *ix, PetscInt dim, Pets
   return PSCellsOwnedRow(ix, dim, j, k) & PSCellsOwnedAxis(ix, 0, i);
 }
 
-/* ghosted cell ci's block of material m, and its per-cell values */
+/* ghosted cell ci's block of material m, and its per-cell value f (PS_CX_*) */
 static inline PetscReal *PSCellsBlk(const PSCells *C, PetscInt ci, PetscInt m)
 {
   return C->u + C->ms * ci + C->mst * m;
 }
 
-static inline PetscReal *PSCellsX(const PSCells *C, PetscInt ci)
+static inline PetscReal *PSCellsX(const PSCells *C, PetscInt ci, PetscInt f)
 {
-  return C->ux + PS_CX_N * ci;
+  return C->ux + f * C->ncl + ci;
 }
 
 /* ghosted cell ci's dof reals, cell by cell (material blocks in order, then
@@ -253,7 +254,7 @@ static inline void PSCellsCopyOut(const PSCells *C, PetscInt ci, PetscReal *out)
   PetscInt m, q;
   for (m = 0; m < C->nmat; m++)
     for (q = 0; q < C->ms; q++) out[m * C->ms + q] = PSCellsBlk(C, ci, m)[q];
-  for (q = 0; q < PS_CX_N; q++) out[C->nmat * C->ms + q] = PSCellsX(C, ci)[q];
+  for (q = 0; q < PS_CX_N; q++) out[C->nmat * C->ms + q] = *PSCellsX(C, ci, q);
 }
 
 static inline void PSCellsCopyIn(PSCells *C, PetscInt ci, const PetscReal *in)
@@ -261,7 +262,7 @@ static inline void PSCellsCopyIn(PSCells *C, PetscInt ci, const PetscReal *in)
   PetscInt m, q;
   for (m = 0; m < C->nmat; m++)
     for (q = 0; q < C->ms; q++) PSCellsBlk(C, ci, m)[q] = in[m * C->ms + q];
-  for (q = 0; q < PS_CX_N; q++) PSCellsX(C, ci)[q] = in[C->nmat * C->ms + q];
+  for (q = 0; q < PS_CX_N; q++) *PSCellsX(C, ci, q) = in[C->nmat * C->ms + q];
 }
 
 /* ghosted cell ci's mass M_c (the sum over its materials, in order) and its

@@ -122,8 +122,8 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
 PetscErrorCode PSCellsShareVolumeGeneral(const PSSolver *S, PetscInt ci, const PetscReal *ec, PetscInt m0, PetscInt m1, PetscReal dV, PetscReal dVk[], PetscReal dVr[], PetscReal *pr)
 {
   const PSCells   *C  = S->cells;
-  const PetscReal *u = &C->u[C->ms * ci], *x = PSCellsX(C, ci);
-  const PetscReal  VM = x[PS_CX_AM] * C->Vc, chiM = x[PS_CX_CM];
+  const PetscReal *u = &C->u[C->ms * ci];
+  const PetscReal  VM = *PSCellsX(C, ci, PS_CX_AM) * C->Vc, chiM = *PSCellsX(C, ci, PS_CX_CM);
   PetscReal       chi[PS_MAX_CELLMAT], p[PS_MAX_CELLMAT], Vm = 0.0, sumchi = 0.0, V0, rest, theta = 1.0, pstar = 0.0, sumd = 0.0;
   PetscInt        m, n = 0;
   PetscBool       hasvoid;
@@ -298,10 +298,9 @@ static PetscErrorCode DepositMarkers(PSSolver *S)
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
-        const PetscInt o  = PSCellIdx(C, i, j, k);
-        PetscReal     *x_ = PSCellsX(C, o);
-        x_[PS_CX_AM] = dep[2 * o];
-        x_[PS_CX_CM] = dep[2 * o + 1];
+        const PetscInt o = PSCellIdx(C, i, j, k);
+        *PSCellsX(C, o, PS_CX_AM) = dep[2 * o];
+        *PSCellsX(C, o, PS_CX_CM) = dep[2 * o + 1];
       }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -333,7 +332,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt ci = PSCellIdx(C, i, j, k);
         PetscReal     *u  = &C->u[C->ms * ci];
-        PetscReal      Vm = 0.0, room = C->Vc * PetscMax(1.0 - PSCellsX(C, ci)[PS_CX_AM], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
+        PetscReal      Vm = 0.0, room = C->Vc * PetscMax(1.0 - *PSCellsX(C, ci, PS_CX_AM), 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
         PetscInt       m0, m1;
         PSCellsPresent(C, ci, &m0, &m1); /* (the others hold no mass) */
         for (m = m0; m < m1; m++)

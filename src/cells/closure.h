@@ -87,7 +87,7 @@ static inline PetscErrorCode PSCellsShareVolume(const PSSolver *S, PetscInt ci, 
   const PetscReal *blk = PSCellsBlk(C, ci, m0);
 
   if (m1 == m0 + 1 && blk[PS_CM] > 0.0 && blk[PS_CV] > 0.0) {
-    const PetscReal *x = PSCellsX(C, ci), VM = x[PS_CX_AM] * C->Vc, chiM = x[PS_CX_CM], chi = ec[PS_EC * m0 + 2];
+    const PetscReal VM = *PSCellsX(C, ci, PS_CX_AM) * C->Vc, chiM = *PSCellsX(C, ci, PS_CX_CM), chi = ec[PS_EC * m0 + 2];
     PetscReal       V0 = PetscMax(C->Vc - blk[PS_CV] - VM, 0.0), rest = PSCellsVoidShare(C, dV, &V0);
     if (V0 <= PS_VOID_ROUNDOFF * C->Vc) {
       dVk[m0] = PSCellsMaterialShare(rest, chi, chi, chiM, blk[PS_CV]);

@@ -164,7 +164,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
             } else sig[0][1] = sig[1][0] = sig[0][1] + blk[PS_CV] * sm[3] * im;
           }
         }
-        for (d = 0; d < 3; d++) sig[d][d] -= Vm * PSCellsX(C, ci)[PS_CX_Q];
+        for (d = 0; d < 3; d++) sig[d][d] -= Vm * *PSCellsX(C, ci, PS_CX_Q);
         /* the hourglass rates of the cell materials' nodal velocities (kept in
            the cell's slot for g_m^h, C->hs, where the predictor reads them as
            the rates at t^n before it writes g_m^h); the corners' mass and force */
@@ -374,11 +374,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
                (1 + (gamma - 1) dV / (2 V1)), p = (gamma - 1) E1 / V1: two
                divisions instead of seven (the same values to round-off) */
             const PetscReal dV = V1 - blk[PS_CV], iV1 = 1.0 / V1;
-            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + PSCellsX(C, ci)[PS_CX_Q])) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
+            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + *PSCellsX(C, ci, PS_CX_Q))) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
           } else {
             J = M->rho0 * V1 / blk[PS_CM];
             PetscCall(PSCellsEOS(M, J, ec[PS_EC * m], (V1 - blk[PS_CV]) / blk[PS_CV], &A, &B, &c2));
-            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, PSCellsX(C, ci)[PS_CX_Q], &e1, &pk[0]);
+            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, *PSCellsX(C, ci, PS_CX_Q), &e1, &pk[0]);
           }
           if (M->gamma > 0.0) pk[0] = PetscMax(pk[0], 0.0); /* an ideal gas holds no tension */
           Vh += V1;
@@ -408,7 +408,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
            weighted mean (PSCellsForcePressure) */
         *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
         {
-          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - PSCellsX(C, ci)[PS_CX_Q];
+          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - *PSCellsX(C, ci, PS_CX_Q);
           for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
@@ -525,7 +525,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
            exactly this back) and its share among materials, markers, void */
         trD = L[0][0] + L[1][1] + L[2][2];
         dV  = C->Vc * dt * trD;
-        PSCellsX(C, ci)[PS_CX_V] = C->Vc + dV;
+        *PSCellsX(C, ci, PS_CX_V) = C->Vc + dV;
         PSCellsPresent(C, ci, &m0, &m1);
         CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
@@ -535,7 +535,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
            whose force the nodes felt) */
         rho                        = Mc / Vm;
         q                          = PSViscosity(rho, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
-        PSCellsX(C, ci)[PS_CX_Q] = q;
+        *PSCellsX(C, ci, PS_CX_Q) = q;
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {

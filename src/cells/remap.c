@@ -83,7 +83,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
     const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
     const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst;
     const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
-    const PetscReal    Vc = C->Vc, *U = C->u, *X = C->ux;
+    const PetscReal    Vc = C->Vc, *U = C->u, *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
     const short       *Sole = C->sole;
     PetscReal         *A = fr->A, *sS = C->sS;
     short             *sP = C->sP;
@@ -93,7 +93,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
           /* the nearest cell of the ghosted box */
           const PetscInt   g[3] = {PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), PetscMin(PetscMax(j + o[1], gs[1]), gl[1]), dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0};
           const PetscInt   ci = g[0] + g[1] * cst1 + g[2] * cst2 - coff, sole = Sole[ci]; /* PSCellIdx */
-          const PetscReal *u = &U[ms * ci], *x = &X[PS_CX_N * ci], V = x[PS_CX_V];
+          const PetscReal *u = &U[ms * ci], V = XV[ci];
           PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
           PetscInt         m0, m1;
           /* a cell with one material with mass: its density and the advected
@@ -109,7 +109,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
           }
           /* (one division per cell, not one per participant) */
           const PetscReal iV = 1.0 / V;
-          acc  = PetscMin(x[PS_CX_AM] * Vc * iV, 1.0);
+          acc  = PetscMin(XA[ci] * Vc * iV, 1.0);
           a[0] = acc;
           /* the materials present add their volume; the others hold none (a
              material without mass is zeroed where it loses it: adding their
@@ -249,7 +249,8 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   const PSCells  *C = S->cells;
   const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d;
   const PetscReal A = C->Vc / S->h[d], *v = C->vh;
-  const PetscReal *ud, *xd;
+  const PetscReal *ud;
+  PetscReal        Vd;
   const PetscReal *fa;
   PetscReal        delta = 0.0, vol[PS_MAX_CELLMAT], w, side;
   PetscInt         a, b, c[3], m, m0, m1, q, o0, uc, s;
@@ -273,18 +274,18 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   if (c[d] < 0 || c[d] >= C->nc[d]) return;
   uc = PSCellIdx(C, c[0], c[1], c[2]);
   ud = &C->u[ms * uc];
-  xd = PSCellsX(C, uc);
+  Vd = *PSCellsX(C, uc, PS_CX_V);
   fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (c[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (c[2] - fr->o[2]) * fr->s[2] : 0)];
-  w  = PetscMin(PetscAbsReal(delta) * A / xd[PS_CX_V], 1.0); /* the slab's share of the donor */
+  w  = PetscMin(PetscAbsReal(delta) * A / Vd, 1.0); /* the slab's share of the donor */
   /* the materials in the slab.  A donor whose one material with mass fills
      it (no markers, no void above round-off: the others hold no volume) gives
      it the whole slab, as SlabVolumes does (the same value, without its
      search of the participants); else a pure donor's one, or all (vol 0 skips) */
   s = C->sole[uc];
   if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12) {
-    vol[s] = w * xd[PS_CX_V] / A * A;
+    vol[s] = w * Vd / A * A;
     m0     = s;
-  } else m0 = SlabVolumes(S, fr, fa, xd[PS_CX_V], d, (PetscInt)side, w * xd[PS_CX_V] / A, vol);
+  } else m0 = SlabVolumes(S, fr, fa, Vd, d, (PetscInt)side, w * Vd / A, vol);
   m1 = m0 >= 0 ? m0 + 1 : (m0 == PS_SLAB_MIXED ? nm : 0);
   m0 = PetscMax(m0, 0);
   if (m0 < m1) {
@@ -305,7 +306,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     spd = s == m ? &C->sS[(ms - 1) * uc] : NULL;
     rho = spd ? spd[0] : blk[PS_CM] / blk[PS_CV];
     /* van Leer slopes where the donor and its neighbours along d are pure in m */
-    pure = blk[PS_CV] > 0.999 * xd[PS_CX_V] ? PETSC_TRUE : PETSC_FALSE;
+    pure = blk[PS_CV] > 0.999 * Vd ? PETSC_TRUE : PETSC_FALSE;
     for (a = 0; a < 2 && pure; a++) {
       const PetscInt c2 = c[d] + (a ? 1 : -1);
       if (c2 < C->gs[d] || c2 >= C->gs[d] + C->gm[d]) {
@@ -315,7 +316,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
       const PetscInt un = uc + (a ? sw->cd : -sw->cd);
       nb[a]  = &C->u[ms * un + mst * m];
       spn[a] = C->sole[un] == m ? &C->sS[(ms - 1) * un] : NULL;
-      if (nb[a][PS_CM] <= 0.0 || nb[a][PS_CV] <= 0.999 * PSCellsX(C, un)[PS_CX_V]) pure = PETSC_FALSE;
+      if (nb[a][PS_CM] <= 0.0 || nb[a][PS_CV] <= 0.999 * *PSCellsX(C, un, PS_CX_V)) pure = PETSC_FALSE;
     }
     if (pure) {
       const PetscReal r0 = spn[0] ? spn[0][0] : nb[0][PS_CM] / nb[0][PS_CV], r1 = spn[1] ? spn[1][0] : nb[1][PS_CM] / nb[1][PS_CV];
@@ -376,7 +377,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
     s = fill[uc];
     if (s >= 0 && fill[uc - cd] == s && fill[uc + cd] == s) {
       const PetscReal *blk = &C->u[ms * uc + mst * s];
-      const PetscReal  V = PSCellsX(C, uc)[PS_CX_V], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
+      const PetscReal  V = *PSCellsX(C, uc, PS_CX_V), w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
       if (vol > 0.0) {
         const PetscReal *spd = &C->sS[sp * uc], *sp0 = &C->sS[sp * (uc - cd)], *sp1 = &C->sS[sp * (uc + cd)];
         const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
@@ -531,7 +532,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
 {
   PSCells        *C = S->cells;
   const PetscInt  d = sw->d, ms = C->ms, mst = C->mst, nm = C->nmat, fs = nm * ms + 2;
-  PetscReal      *u = &C->u[ms * ci], *x = PSCellsX(C, ci);
+  PetscReal      *u = &C->u[ms * ci], *V = PSCellsX(C, ci, PS_CX_V);
   PetscInt        m, q, f0, f1, m0, m1;
 
   /* nearly every cell of a single-material region: it holds material s
@@ -549,7 +550,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
       b[2] += l[2] - h[2];
     } else
       for (q = 0; q < ms; q++) b[q] += l[q] - h[q];
-    x[PS_CX_V] += fl[nm * ms] - fh[nm * ms];
+    *V += fl[nm * ms] - fh[nm * ms];
     DiscardTrace(S, m, b);
     C->Mcell[ci] = b[PS_CM]; /* (PSCellsCellMass's sum: the others add zeros) */
     C->sole[ci]  = (short)(b[PS_CM] > 0.0 ? m : PS_CELL_EMPTY);
@@ -563,7 +564,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
     const PetscBool inl = m >= rl[0] && m < rl[1] ? PETSC_TRUE : PETSC_FALSE, inh = m >= rh[0] && m < rh[1] ? PETSC_TRUE : PETSC_FALSE;
     for (q = 0; q < ms; q++) u[m * mst + q] += (inl ? fl[m * ms + q] : 0.0) - (inh ? fh[m * ms + q] : 0.0);
   }
-  x[PS_CX_V] += fl[nm * ms] - fh[nm * ms];
+  *V += fl[nm * ms] - fh[nm * ms];
   /* with the materials that had mass before the sweep */
   PSCellsPresent(C, ci, &m0, &m1);
   if (m0 < m1) {
