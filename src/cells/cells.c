@@ -30,11 +30,7 @@ static void CornersBuild(const PSSolver *S, const PSCells *C, const PSIndex *ix,
       s[d] = o[d] ? 1.0 : -1.0;
       K->gN[a][d] = d < dim ? s[d] / S->h[d] / (dim == 3 ? 4.0 : 2.0) : 0.0;
     }
-    K->off[a]  = (o[2] * ix->gm[1] + o[1]) * ix->gm[0] + o[0];
-    K->G[a][0] = s[0] * s[1];
-    K->G[a][1] = s[1] * s[2];
-    K->G[a][2] = s[0] * s[2];
-    K->G[a][3] = s[0] * s[1] * s[2];
+    K->off[a] = (o[2] * ix->gm[1] + o[1]) * ix->gm[0] + o[0];
   }
   K->khg = C->hourglass / PetscMin(S->h[0], S->h[1]) / K->nco;
 }

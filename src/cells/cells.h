@@ -51,26 +51,27 @@ enum { PS_CX_AM = 0, PS_CX_CM = 1, PS_CX_Q = 2, PS_CX_V = 3, PS_CX_N = 4 }; /* m
    cell's lower corner; grad N_a at the cell's centre (s_d / h_d times 1/2 for
    each other direction: the bilinear (trilinear) element's one-point
    quadrature); the hourglass patterns G_m(a) (2D xy; 3D xy, yz, xz, xyz;
-   Flanagan & Belytschko 1981).  Built once, with the cells (PSCellsCreate),
+   Flanagan & Belytschko 1981) are PSHourglassSign's constants, below.
+   Built once, with the cells (PSCellsCreate),
    so the cells' loops do no index arithmetic, division or branching per
    corner. */
-/* G_m(a) of PSCorners as a constant where a and m are (the loops over a
-   cell's corners unroll): s_0 s_1, s_1 s_2, s_0 s_2, s_0 s_1 s_2 with s_d = +1
-   at the upper node along d, -1 at the lower (CornersBuild's values: +-1,
-   exact, so G v is +-v and kappa G h is +-kappa h, as from the table) */
+typedef struct {
+  PetscInt  dim, nco;     /* corners */
+  PetscInt  off[8];       /* node offsets from corner 0 */
+  PetscReal gN[8][3];     /* grad N_a at the centre (1/m) */
+  PetscReal khg;          /* hourglass coefficient over min h and 2^dim: kappa / (h 2^dim) (1/m) */
+} PSCorners;
+
+/* the hourglass pattern G_m(a) of corner a, a constant where a and m are
+   (the loops over a cell's corners unroll): s_0 s_1, s_1 s_2, s_0 s_2,
+   s_0 s_1 s_2 with s_d = +1 at the upper node along d, -1 at the lower (+-1,
+   exact: G v is +-v, and kappa G h is +-kappa h; loaded from a table, as
+   before, the step took 42 instructions per cell-update more) */
 static inline PetscReal PSHourglassSign(PetscInt a, PetscInt m)
 {
   const PetscReal s0 = (a & 1) ? 1.0 : -1.0, s1 = (a & 2) ? 1.0 : -1.0, s2 = (a & 4) ? 1.0 : -1.0;
   return m == 0 ? s0 * s1 : m == 1 ? s1 * s2 : m == 2 ? s0 * s2 : s0 * s1 * s2;
 }
-
-typedef struct {
-  PetscInt  dim, nco;     /* corners */
-  PetscInt  off[8];       /* node offsets from corner 0 */
-  PetscReal gN[8][3];     /* grad N_a at the centre (1/m) */
-  PetscReal G[8][4];      /* hourglass patterns */
-  PetscReal khg;          /* hourglass coefficient over min h and 2^dim: kappa / (h 2^dim) (1/m) */
-} PSCorners;
 
 typedef struct PSCells_ {
   PetscInt  dim;
@@ -88,7 +89,7 @@ typedef struct PSCells_ {
   PetscInt  cst[3], coff;         /* its strides (1, gm[0], gm[0] gm[1]) and the index of cell (0, 0, 0) in it, negated (PSCellIdx) */
   PetscInt  xs[3], xm[3];         /* the cells around the owned nodes: corner and size (PSCellsXIdx) */
   PetscInt  ncl;                  /* cells in the ghosted box */
-  PetscReal *u;                   /* the ghosted cell array, ncl x dof: nmat planes of ncl x ms, then ncl x PS_CX_N */
+  PetscReal *u;                   /* the ghosted cell array, ncl x dof: nmat planes of ncl x ms, then PS_CX_N planes of ncl */
   PetscReal *ux;                  /* its per-cell planes, u + nmat mst: PS_CX_N of ncl reals */
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance; then the fit's discarded mass */
