@@ -29,9 +29,8 @@ static inline PetscInt Owner(const PetscInt *lx, PetscInt P, PetscInt i)
    box), x fastest, in nb planes of bs reals per point, then nx planes of
    one real per point (a dof-per-point array: nb = 1, bs = dof, nx = 0; the
    cells' state: a plane per material, then one per per-cell value). */
-static inline PetscInt PlaneIdx(PetscInt np, PetscInt nb, PetscInt bs, PetscInt nx, PetscInt p, PetscInt e)
+static inline PetscInt PlaneIdx(PetscInt np, PetscInt nb, PetscInt bs, PetscInt p, PetscInt e)
 {
-  (void)nx;
   return e < nb * bs ? (e / bs) * np * bs + p * bs + e % bs : nb * np * bs + (e - nb * bs) * np + p;
 }
 
@@ -78,9 +77,9 @@ PetscErrorCode PSHaloCreateBox(MPI_Comm comm, PetscInt dim, const PetscInt N0[3]
         }
         ro = ((k - rgs[2]) * rgm[1] + (j - rgs[1])) * rgm[0] + (i - rgs[0]);
         for (e = 0; e < dof; e++) {
-          ilocal[n]        = PlaneIdx(nroots / dof, nb, bs, nx, ((k - gs[2]) * (ge[1] - gs[1]) + (j - gs[1])) * (ge[0] - gs[0]) + (i - gs[0]), e);
+          ilocal[n]        = PlaneIdx(nroots / dof, nb, bs, ((k - gs[2]) * (ge[1] - gs[1]) + (j - gs[1])) * (ge[0] - gs[0]) + (i - gs[0]), e);
           iremote[n].rank  = r[0] + nproc[0] * (r[1] + nproc[1] * r[2]);
-          iremote[n].index = PlaneIdx(rgm[0] * rgm[1] * rgm[2], nb, bs, nx, ro, e);
+          iremote[n].index = PlaneIdx(rgm[0] * rgm[1] * rgm[2], nb, bs, ro, e);
           n++;
         }
       }

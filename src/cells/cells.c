@@ -118,10 +118,8 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PSGridIndex(S->da, &ix));
   for (d = 0; d < 3; d++) nn *= ix.gm[d];
   C->nnl = nn;
-  /* P and Pn apart: each sweep swaps them (one block for both would be freed
-     through the wrong pointer after an odd number of sweeps, as in 3D) */
   PetscCall(PetscCalloc1(nn * S->dim, &C->P));
-  PetscCall(PetscCalloc1(nn * S->dim, &C->Pn));
+  PetscCall(PetscMalloc2(nn, &C->sK, nn * S->dim, &C->sVL)); /* the remap's scratch; sVL is the cells' P2G's too */
   PetscCall(PetscCalloc1(nn, &C->mcn)); /* mcn and mco apart: the remap's sweeps swap them */
   PetscCall(PetscCalloc1(nn, &C->mco));
   PetscCall(PetscCalloc1(nn * S->dim, &C->vh));
@@ -145,7 +143,6 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   if (!*C) PetscFunctionReturn(PETSC_SUCCESS);
   PetscCall(PetscFree((*C)->u));
   PetscCall(PetscFree((*C)->P));
-  PetscCall(PetscFree((*C)->Pn));
   PetscCall(PetscFree((*C)->mcn));
   PetscCall(PetscFree((*C)->mco));
   PetscCall(PetscFree((*C)->vh));
@@ -161,7 +158,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->ec));
   PetscCall(PetscFree((*C)->eco));
   PetscCall(PetscFree((*C)->hm));
-  if ((*C)->sK) PetscCall(PetscFree2((*C)->sK, (*C)->sVL));
+  PetscCall(PetscFree2((*C)->sK, (*C)->sVL));
   PetscCall(PetscSFDestroy(&(*C)->sfk));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));
@@ -213,11 +210,10 @@ static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, 
              mass adds w 0 = 0, which changes no sum: no test */
           const PetscReal *Mr = &C->Mcell[PSCellIdx(C, x0 - PS_PAD - 1, n[1] - PS_PAD - 1, dim == 3 ? n[2] - PS_PAD - 1 : 0)];
           PetscReal       *mr = &C->mcn[Lidx(ix, x0, n[1], n[2])];
-          const PetscInt   o1 = off[1], o2 = off[2], o3 = off[3], o4 = off[nco > 4 ? 4 : 0], o5 = off[nco > 4 ? 5 : 0], o6 = off[nco > 4 ? 6 : 0], o7 = off[nco > 4 ? 7 : 0];
           PetscInt         x;
           for (x = 0; x < x1 - x0; x++) {
-            PetscReal sm = 0.0 + w * Mr[x] + w * Mr[x + o1] + w * Mr[x + o2] + w * Mr[x + o3];
-            if (dim == 3) sm = sm + w * Mr[x + o4] + w * Mr[x + o5] + w * Mr[x + o6] + w * Mr[x + o7];
+            PetscReal sm = 0.0;
+            for (a = 0; a < nco; a++) sm += w * Mr[x + off[a]];
             mr[x] = sm;
           }
           n[0] = x1 - 1;

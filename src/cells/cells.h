@@ -94,7 +94,7 @@ typedef struct PSCells_ {
   PetscSF   sfu;                  /* ghost exchange of u (halo.c) */
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance; then the fit's discarded mass */
   PetscBool dep_dirty;            /* dep holds a discard (else it is all zero, and the fit need not zero it) */
-  PetscReal *sF, *sK, *sVL, *sA;  /* the remap's scratch (remap.c), kept between steps */
+  PetscReal *sF, *sK, *sVL, *sA;  /* the remap's scratch (remap.c), kept between steps; sK and sVL (one and dim per local node) from the start: the cells' P2G takes sVL before the remap */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
   short       *sP;                /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep) */
@@ -105,7 +105,6 @@ typedef struct PSCells_ {
   PetscSF   sfd;                  /* its ghost sums (halo.c) */
   DM        dac;                  /* cells without ghosts, dof reals (output, checkpoint) */
   PetscReal *P;                   /* nodal momentum of the cell materials, the node arrays' layout, dim per node */
-  PetscReal *Pn;                  /* scratch of the same size */
   PetscReal *mcn;                 /* nodal mass of the cell materials m^C_i, one per local node */
   PetscReal *mco;                 /* the same before the remap's last sweep (remap.c swaps the two) */
   PetscReal *Mcell;               /* per ghosted cell: its cell materials' mass M_c (kg), as PSCellsNodalMass last summed it */

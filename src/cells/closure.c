@@ -355,7 +355,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           for (m = 0; m < C->nmat; m++) {
             PetscReal *blk = &u[m * C->mst];
             PetscInt   q;
-            dep[2 * PSCellIdx(C, i, j, k)] += blk[PS_CM];
+            dep[2 * ci] += blk[PS_CM];
             C->dep_dirty = PETSC_TRUE;
             S->lost_local.mass += blk[PS_CM];
             S->lost_local.internal += blk[PS_CE];
@@ -375,7 +375,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           for (m = 0; m < C->nmat; m++) {
             PetscReal *blk = &u[m * C->mst];
             PetscInt   q;
-            dep[2 * PSCellIdx(C, i, j, k)] += phi * blk[PS_CM];
+            dep[2 * ci] += phi * blk[PS_CM];
             C->dep_dirty = PETSC_TRUE;
             S->lost_local.mass += phi * blk[PS_CM];
             S->lost_local.internal += phi * blk[PS_CE];

@@ -126,10 +126,11 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
   PetscCall(PSCellsEOSCache(S));
   /* the cell materials' nodal velocity P^C_i / m^C_i at t^n, every local node,
-     into the remap's scratch C->Pn (free until the remap): the hourglass rates
-     here and the predictor's read it (each corner divided once per step) */
+     into the remap's scratch C->sVL (free until the remap): the hourglass
+     rates below read it (each node divided once per step, not once per
+     corner) */
   for (o = 0; o < C->nnl; o++)
-    for (d = 0; d < dim; d++) C->Pn[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
+    for (d = 0; d < dim; d++) C->sVL[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
   /* every cell around the owned nodes, to its owned corners (PSCellsXIdx:
      each node's sum in one order on any number of ranks) */
   for (k = C->xs[2]; k < C->ce[2]; k++)
@@ -168,7 +169,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         /* the hourglass rates of the cell materials' nodal velocities (kept in
            the cell's slot for g_m^h, C->hs, where the predictor reads them as
            the rates at t^n before it writes g_m^h); the corners' mass and force */
-        HourglassRates(&C->K, oc, C->Pn, hg);
+        HourglassRates(&C->K, oc, C->sVL, hg);
         {
           PetscReal *gh = &C->hs[hsd * n + 1];
           for (e = 0; e < nh; e++)

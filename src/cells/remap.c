@@ -147,8 +147,9 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
    current volume; its participants are reconstructed by nested dissection
    (plic.c) with Youngs' normals of the cumulative fractions; the markers'
    and void's part of the slab stays.  A pure donor gives the whole slab to
-   its one material.  V: the donor's volume (m^3).  Returns the cell material the slab holds alone, or
-   PS_SLAB_MIXED (several participants), or PS_SLAB_NONE (no cell material). */
+   its one material.  V: the donor's volume (m^3).  Returns the cell
+   material the slab holds alone, or PS_SLAB_MIXED (several participants),
+   or PS_SLAB_NONE (no cell material). */
 #define PS_SLAB_MIXED (-1)
 #define PS_SLAB_NONE  (-2)
 static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const PetscReal *a, PetscReal V, PetscInt d, PetscInt side, PetscReal w, PetscReal vol[])
@@ -191,9 +192,9 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
   return PS_SLAB_MIXED;
 }
 
-/* the sweeps' scratch, kept between steps: face fluxes (nface faces of fs
-   reals) and the range of materials each face's fluxes hold, nodal kinetic
-   energy, velocity and its bounds */
+/* the sweeps' face scratch, kept between steps: face fluxes (nface faces of
+   fs reals) and the range of materials each face's fluxes hold (the nodal
+   kinetic energy and velocity, sK and sVL, are allocated with the cells) */
 static PetscErrorCode ScratchSize(PSCells *C, PetscInt nface, PetscInt fs)
 {
   PetscFunctionBeginUser;
@@ -202,7 +203,6 @@ static PetscErrorCode ScratchSize(PSCells *C, PetscInt nface, PetscInt fs)
     PetscCall(PetscMalloc2(nface * fs, &C->sF, 2 * nface, &C->sR));
     C->nsF = nface * fs;
   }
-  if (!C->sK) PetscCall(PetscMalloc2(C->nnl, &C->sK, C->dim * C->nnl, &C->sVL));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
