@@ -65,6 +65,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
     if (scene->bodies[k].cellmat < 0) C->markers = PETSC_TRUE;
   for (k = 0; k < C->nmat; k++) {
     C->mat[k] = scene->cellmat[k];
+    C->rho_min[k] = PS_RHO_MIN * mats[C->mat[k]].rho0;
     if (mats[C->mat[k]].G > 0.0) strength = PETSC_TRUE;
   }
   C->ns        = PSStressComponents(S->dim);

@@ -40,6 +40,7 @@
 #include "../step.h"
 
 #define PS_MAX_CELLMAT 8
+#define PS_RHO_MIN 1e-6 /* density, relative to the material's reference, below which the remap discards it (booked) */
 #define PS_CELL_GHOST  3 /* ghost cells: the nodal remap needs fluxes of cells one out, whose donors' Youngs normals reach one further */
 
 /* offsets in a material's block, and of the per-cell values after the blocks */
@@ -78,6 +79,7 @@ typedef struct PSCells_ {
   PetscInt  nmat;                 /* cell materials */
   PetscBool markers;              /* the scene has marker bodies */
   PetscInt  mat[PS_MAX_CELLMAT];  /* their material ids */
+  PetscReal rho_min[PS_MAX_CELLMAT]; /* each one's density below which the remap discards it: PS_RHO_MIN rho0 (kg/m^3; remap.c) */
   PetscInt  nq;                   /* advected quantities per material after E: 0, or ns + 2 */
   PetscInt  ns;                   /* stress components (4 in 2D, 6 in 3D) */
   PetscInt  ms;                   /* reals per material block: 3 + nq */

@@ -41,7 +41,6 @@
 static PetscLogEvent EV_Remap = 0, EV_Prep, EV_Flux, EV_Halo, EV_KE;
 
 #define PS_DISCARD 1e-6 /* volume fraction below which a cell material is discarded (booked) */
-#define PS_RHO_MIN 1e-6 /* density, relative to the material's reference, below which it is discarded (booked) */
 
 static inline PetscReal VanLeer(PetscReal a, PetscReal b)
 {
@@ -113,17 +112,25 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
           a[0] = acc;
           /* the materials present add their volume; the others hold none (a
              material without mass is zeroed where it loses it: adding their
-             0 changed no sum), and their planes are not read */
-          PSCellsSoleRange(sole, nm, &m0, &m1);
-          for (m = 0; m < nm; m++) {
-            if (m >= m0 && m < m1) acc += u[m * mst + PS_CV] * iV;
-            a[1 + m] = PetscMin(acc, 1.0);
+             0 changed no sum), and their planes are not read.  With them the
+             material that fills the cell alone, for the faces' fast path
+             (FaceRun): none in a cell of several or none, or with markers or
+             void above round-off (a[0], 1 - a[nm]).  (A copy outside the
+             ghosted cells writes its nearest cell's value again: the same) */
+          if (sole >= 0) { /* (the loop below for one material, without its test per material) */
+            const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + u[sole * mst + PS_CV] * iV, 1.0);
+            for (m = 0; m < sole; m++) a[1 + m] = a1;
+            for (; m < nm; m++) a[1 + m] = a2; /* (a[nm] = a2) */
+            sP[ci] = (short)(acc <= 1e-12 && 1.0 - a2 <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1);
+          } else {
+            sP[ci] = -1;
+            PSCellsSoleRange(sole, nm, &m0, &m1);
+            for (m = 0; m < nm; m++) {
+              if (m >= m0 && m < m1) acc += u[m * mst + PS_CV] * iV;
+              a[1 + m] = PetscMin(acc, 1.0);
+            }
           }
           a[nm + 1] = 1.0;
-          /* the material that fills the cell alone, for the faces' fast path
-             (FaceRun).  (A copy outside the ghosted cells writes its nearest
-             cell's value again: the same) */
-          sP[ci] = (short)(sole >= 0 && a[0] <= 1e-12 && 1.0 - a[nm] <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1);
         }
   }
   /* none on the ghosted array's two faces along d: their neighbours along d
@@ -512,7 +519,7 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
 {
   PSCells *C = S->cells;
   PetscInt q;
-  if (!(b[PS_CM] <= 0.0 || b[PS_CV] <= PS_DISCARD * C->Vc || b[PS_CM] < PS_RHO_MIN * S->mat[C->mat[m]].rho0 * b[PS_CV])) return;
+  if (!(b[PS_CM] <= 0.0 || b[PS_CV] <= PS_DISCARD * C->Vc || b[PS_CM] < C->rho_min[m] * b[PS_CV])) return;
   for (q = 0; q < C->ms && b[q] == 0.0; q++) {}
   if (q == C->ms) return;
   S->lost_local.mass += b[PS_CM];
@@ -526,9 +533,10 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
    lower face, out through the upper.  Materials in neither range are not
    touched (their fluxes are zero: u + (0 - 0) is u), and only those fluxed
    or with mass before the sweep are tested for discard (the others are all
-   zero, which the test skips).  Always inline: GCC kept it out of line, and
+   zero, which the test skips).  inner: the cell is neither the domain's
+   first nor its last along d (no free face of the domain).  Always inline: GCC kept it out of line, and
    the call cost about 15 instructions per cell and sweep */
-static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
+static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, PetscBool inner, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
   const PetscInt  d = sw->d, ms = C->ms, mst = C->mst, nm = C->nmat, fs = nm * ms + 2;
@@ -541,7 +549,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
      other materials hold and take nothing (zero: PSCellsPresent), so the
      cell's mass is s's and s the one with mass unless it is discarded */
   m = C->sole[ci];
-  if (m >= 0 && rl[0] == m && rl[1] == m + 1 && rh[0] == m && rh[1] == m + 1 && i[d] > 0 && i[d] + 1 < C->nc[d]) {
+  if (m >= 0 && inner && rl[0] == m && rh[0] == m && rl[1] == m + 1 && rh[1] == m + 1) {
     PetscReal       *b = &u[m * mst];
     const PetscReal *l = &fl[m * ms], *h = &fh[m * ms];
     if (ms == PS_CQ) { /* a block without advected strength (a gas): V, M, E unrolled (the loop, its length known only at run time, took 49 instructions for these three) */
@@ -604,6 +612,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
   const PetscInt  d = sw->d, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2, fs = C->nmat * C->ms + 2;
   const PetscInt  o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
   const PetscBool owned = j0[1] >= C->cs[1] && j0[2] >= C->cs[2]; /* across x (x: below) */
+  const PetscBool innerd = j0[d] > 0 && j0[d] + 1 < C->nc[d];   /* the run inside the domain along d (d > 0; along x: each cell) */
   PetscInt        xa, xb, k, a, b, q;
   PetscBool       ok;
 
@@ -649,7 +658,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
     }
     if (owned && x >= C->cs[0]) {
       const PetscInt j[3] = {x, j0[1], j0[2]};
-      CellUpdate(S, sw, j, ci, fl, fh, &Rl[2 * k], &Rh[2 * k]);
+      CellUpdate(S, sw, j, ci, d == 0 ? x > 0 && x + 1 < C->nc[0] : innerd, fl, fh, &Rl[2 * k], &Rh[2 * k]);
     }
   }
 }
@@ -788,17 +797,17 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         const PetscReal mn    = C->mcn[o];
         PetscReal       lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
         PetscInt        k;
-        /* the bounds, without branches: a node outside the local array or
-           without mass offers the bounds' own start, which changes neither
-           (the node itself, owned, is in it) */
+        /* the bounds over the node and its neighbours along d in the local
+           array that had mass: one test per neighbour, not per component (a
+           neighbour left out is the bounds' start, which changes neither;
+           the node itself, owned, is in the array) */
         const PetscBool inm = i[d] - 1 >= ix->gs[d], inp = i[d] + 1 < ix->gs[d] + ix->gm[d];
         for (k = -1; k <= 1; k++) {
-          const PetscBool in = k == 0 || (k < 0 ? inm : inp);
-          const PetscInt  o2 = in ? o + k * sw.sd : o;
-          const PetscBool ok = in && C->mco[o2] > 0.0;
+          const PetscInt o2 = o + k * sw.sd;
+          if ((k < 0 && !inm) || (k > 0 && !inp) || !(C->mco[o2] > 0.0)) continue;
           for (q = 0; q < dim; q++) {
-            lo[q] = PetscMin(lo[q], ok ? VL[dim * o2 + q] : PETSC_MAX_REAL);
-            hi[q] = PetscMax(hi[q], ok ? VL[dim * o2 + q] : -PETSC_MAX_REAL);
+            lo[q] = PetscMin(lo[q], VL[dim * o2 + q]);
+            hi[q] = PetscMax(hi[q], VL[dim * o2 + q]);
           }
         }
         for (q = 0; q < dim; q++) {
@@ -825,20 +834,32 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      over cells is the sum over nodes), and each of its materials the share
      M_k / M_c of that */
   PetscCall(PSHaloBcast(C->sfk, K));
-  for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
-    for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++)
-      for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
-        const PetscInt ci = PSCellIdx(C, i[0], i[1], i[2]), o0 = Node(ix, dim, i);
-        PetscReal     *u  = &C->u[ms * ci], Mc = C->Mcell[ci], dE = 0.0; /* after the sweep (PSCellsNodalMass above) */
-        PetscInt       c, m0, m1;
-        if (Mc <= 0.0) continue;
-        /* (a node without mass holds d_i = 0: above, and its owner's value
-           on the ghosts) */
-        for (c = 0; c < (1 << dim); c++) dE += K[o0 + C->K.off[c]]; /* per unit of the cell's mass */
-        PSCellsPresent(C, ci, &m0, &m1); /* as found after the sweep */
-        for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
-        C->remap_heat += dE * Mc;
+  {
+    const PetscReal *Mcell = C->Mcell; /* after the sweep (PSCellsNodalMass above) */
+    const short     *sole  = C->sole;
+    PetscReal       *U = C->u, heat = C->remap_heat; /* (the same sum, in a register) */
+    PetscInt         off[8], c;
+    for (c = 0; c < (1 << dim); c++) off[c] = C->K.off[c];
+    for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
+      for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++) {
+        const PetscInt ci0 = PSCellIdx(C, C->cs[0], i[1], i[2]) - C->cs[0];
+        i[0] = C->cs[0];
+        const PetscInt o00 = Node(ix, dim, i) - C->cs[0];
+        for (; i[0] < C->ce[0]; i[0]++) {
+          const PetscInt ci = ci0 + i[0], o0 = o00 + i[0];
+          PetscReal     *u = &U[ms * ci], Mc = Mcell[ci], dE = 0.0;
+          PetscInt       m0, m1;
+          if (Mc <= 0.0) continue;
+          /* (a node without mass holds d_i = 0: above, and its owner's value
+             on the ghosts) */
+          for (c = 0; c < (1 << dim); c++) dE += K[o0 + off[c]]; /* per unit of the cell's mass */
+          PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* the materials present, as found after the sweep (PSCellsPresent) */
+          for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
+          heat += dE * Mc;
+        }
       }
+    C->remap_heat = heat;
+  }
 
   PetscCall(PetscLogEventEnd(EV_KE, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
