@@ -71,6 +71,7 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
   for (d = 0; d < 3; d++) {
     S->bc[d][0] = d < S->dim ? (PSBCType)bc[2 * d] : PS_BC_FREE;
     S->bc[d][1] = d < S->dim ? (PSBCType)bc[2 * d + 1] : PS_BC_FREE;
+    S->nc[d]    = d < S->dim ? scene->cells[d] : 1;
     S->h[d]     = d < S->dim ? (scene->upper[d] - scene->lower[d]) / scene->cells[d] : 1.0;
     S->ih[d]    = 1.0 / S->h[d];
     S->Dinv[d]  = 4.0 / (S->h[d] * S->h[d]); /* MLS-MPM D_p^-1 of quadratic B-splines */

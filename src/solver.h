@@ -202,6 +202,7 @@ typedef struct {
   PSRunParams    run;
   PSMaterial    *mat;            /* scene->nmaterial */
   PSBCType       bc[3][2];       /* per direction, lower and upper face */
+  PetscInt       nc[3];          /* cells per direction (scene->cells; 1 beyond dim) */
   DM             da;             /* grid nodes, PS_PAD nodes outside the domain on each side */
   DM             dag;            /* the same grid with the step's node layout of G (step.h: PSGridDof) */
   DM             dav;            /* the same grid with the re-projection's layout (musl; PSReprojectDof) */

@@ -85,7 +85,9 @@ static inline void PSNodeBCDim(const PSSolver *S, const PetscInt dim, const Pets
 {
   PetscInt d, e;
   for (d = 0; d < dim; d++) {
-    PSBCType bc = ip[d] <= 0 ? S->bc[d][0] : ip[d] >= S->scene->cells[d] ? S->bc[d][1] : PS_BC_FREE;
+    PSBCType bc;
+    if (ip[d] > 0 && ip[d] < S->nc[d]) continue; /* not on a face of the domain (nearly every node) */
+    bc = ip[d] <= 0 ? S->bc[d][0] : S->bc[d][1];
     if (bc == PS_BC_SYMMETRY) v[d] = 0.0;
     else if (bc == PS_BC_FIXED)
       for (e = 0; e < dim; e++) v[e] = 0.0;

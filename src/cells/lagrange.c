@@ -60,7 +60,7 @@ static inline PetscReal HourglassKappa(const PSCorners *K, PetscReal Mc, PetscRe
 
 /* the hourglass rates g_m = sum_a G_m(a) v_a of the cell with lower corner
    node o, from nodal velocities v (dim per node); dim a constant where it is
-   called, so the loops unroll (HourglassRates picks 2D or 3D) */
+   called (the phases' dim-specialised loops), so the loops unroll */
 static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, PetscInt o, const PetscReal *v, PetscReal hg[4][3])
 {
   const PetscInt nco = 1 << dim, nh = dim == 3 ? 4 : 1;
@@ -74,12 +74,6 @@ static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, Pet
       for (e = 0; e < nh; e++) hg[e][d] += PSHourglassSign(a, e) * v[dim * oa + d];
     }
   }
-}
-
-static inline void HourglassRates(const PSCorners *K, PetscInt o, const PetscReal *v, PetscReal hg[4][3])
-{
-  if (K->dim == 2) HourglassRatesDim(K, 2, o, v, hg);
-  else HourglassRatesDim(K, 3, o, v, hg);
 }
 
 /* mixture values of a cell: material mass and volume, and its signal speed:
@@ -169,7 +163,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         /* the hourglass rates of the cell materials' nodal velocities (kept in
            the cell's slot for g_m^h, C->hs, where the predictor reads them as
            the rates at t^n before it writes g_m^h); the corners' mass and force */
-        HourglassRates(&C->K, oc, C->sVL, hg);
+        HourglassRatesDim(&C->K, dim, oc, C->sVL, hg);
         {
           PetscReal *gh = &C->hs[hsd * n + 1];
           for (e = 0; e < nh; e++)
@@ -226,12 +220,6 @@ static inline void CellGradientDim(const PSCorners *K, const PetscInt dim, Petsc
     v2max = PetscMax(v2max, v2);
   }
   *vmax = PetscSqrtReal(v2max);
-}
-
-static inline void CellGradient(const PSCorners *K, PetscInt o, const PetscReal *v0, PetscReal L[3][3], PetscReal vmax[1])
-{
-  if (K->dim == 2) CellGradientDim(K, 2, o, v0, L, vmax);
-  else CellGradientDim(K, 3, o, v0, L, vmax);
 }
 
 /* one material's deviator over the step: Jaumann rate 2G D' + W s - s W, J2
@@ -354,7 +342,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
         /* the half-step state at v^{n+1/2*}: half the volume change, shared */
-        CellGradient(&C->K, oc, C->vh, L, &vmax);
+        CellGradientDim(&C->K, dim, oc, C->vh, L, &vmax);
         trD = L[0][0] + L[1][1] + L[2][2];
         dVh = 0.5 * C->Vc * dt * trD;
         PetscCall(PSCellsShareVolume(S, ci, ec, m0, m1, dVh, dVk, NULL, NULL));
@@ -414,7 +402,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
-        HourglassRates(&C->K, oc, C->vh, hgh);
+        HourglassRatesDim(&C->K, dim, oc, C->vh, hgh);
         for (e = 0; e < nh; e++)
           for (d = 0; d < dim; d++) {
             hg0[e][d]        = gh[dim * e + d]; /* the rates of the cells' nodal velocity at t^n, as PSCellsToGrid left them */
@@ -520,7 +508,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = CellNode(ix, dim, i, j, k);
         PetscInt         m0, m1;
-        CellGradient(&C->K, oc, C->vh, L, &vmax);
+        CellGradientDim(&C->K, dim, oc, C->vh, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
            each moving with the mean velocity of its corners: the remap moves
            exactly this back) and its share among materials, markers, void */
@@ -543,7 +531,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
           const PetscReal *gh  = hs + 1, kap = HourglassKappa(&C->K, Mc, cmax);
           PetscReal        hg[4][3];
           PetscInt         e;
-          HourglassRates(&C->K, oc, C->vh, hg);
+          HourglassRatesDim(&C->K, dim, oc, C->vh, hg);
           for (e = 0; e < nh; e++)
             for (d = 0; d < dim; d++) hgw += kap * gh[dim * e + d] * hg[e][d] * dt;
         }
