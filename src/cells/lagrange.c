@@ -110,6 +110,7 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
 static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
 {
   PSCells        *C = S->cells;
+  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
   const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C);
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   PetscReal      *g = S->g;
@@ -128,12 +129,14 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   /* every cell around the owned nodes, to its owned corners (PSCellsXIdx:
      each node's sum in one order on any number of ranks) */
   for (k = C->xs[2]; k < C->ce[2]; k++)
-    for (j = C->xs[1]; j < C->ce[1]; j++)
+    for (j = C->xs[1]; j < C->ce[1]; j++) {
+      PetscInt ci0, oc0, xa, xb;
+      PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
-        const PetscInt   ci = PSCellIdx(C, i, j, k);
+        const PetscInt   ci = ci0 + i;
         const PetscReal *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n);
-        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
+        const PetscInt   oc = oc0 + i, own = orow & (i >= xa && i < xb ? 0xff : PSCellsOwnedAxis(ix, 0, i)); /* (its owned corners) */
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
         PetscInt         m0, m1;
         PSCellsPresent(C, ci, &m0, &m1);
@@ -159,7 +162,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
             } else sig[0][1] = sig[1][0] = sig[0][1] + blk[PS_CV] * sm[3] * im;
           }
         }
-        for (d = 0; d < 3; d++) sig[d][d] -= Vm * *PSCellsX(C, ci, PS_CX_Q);
+        for (d = 0; d < 3; d++) sig[d][d] -= Vm * XQ[ci];
         /* the hourglass rates of the cell materials' nodal velocities (kept in
            the cell's slot for g_m^h, C->hs, where the predictor reads them as
            the rates at t^n before it writes g_m^h); the corners' mass and force */
@@ -184,6 +187,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
           }
         }
       }
+    }
   /* the cell materials' momentum on the owned nodes (the ghosts' would count twice) */
   PSGridAddOwned(S, ix, C->P, dim, g + 1, dof);
   PetscCall(PetscLogEventEnd(EV_C2G, 0, 0, 0, 0));
@@ -308,6 +312,7 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
 static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
 {
   PSCells        *C = S->cells;
+  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
   const PetscInt  dof = PSGridDof(S), nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   PetscReal      *g = S->g, hm = 0.0;
@@ -329,13 +334,15 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   /* every cell around the owned nodes (PSCellsXIdx), its force change to
      its owned corners */
   for (k = C->xs[2]; k < C->ce[2]; k++)
-    for (j = C->xs[1]; j < C->ce[1]; j++)
+    for (j = C->xs[1]; j < C->ce[1]; j++) {
+      PetscInt ci0, oc0, xa, xb;
+      PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
-        const PetscInt   ci = PSCellIdx(C, i, j, k);
+        const PetscInt   ci = ci0 + i;
         const PetscReal *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n);
         PetscReal       *hmn = PSCellsHM(C, n, hmat), *qh = &C->hs[hsd * n], *gh = qh + 1;
-        const PetscInt   oc = CellNode(ix, dim, i, j, k), own = orow & PSCellsOwnedAxis(ix, 0, i); /* (its owned corners) */
+        const PetscInt   oc = oc0 + i, own = orow & (i >= xa && i < xb ? 0xff : PSCellsOwnedAxis(ix, 0, i)); /* (its owned corners) */
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
         PSCellsPresent(C, ci, &m0, &m1);
@@ -363,11 +370,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
                (1 + (gamma - 1) dV / (2 V1)), p = (gamma - 1) E1 / V1: two
                divisions instead of seven (the same values to round-off) */
             const PetscReal dV = V1 - blk[PS_CV], iV1 = 1.0 / V1;
-            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + *PSCellsX(C, ci, PS_CX_Q))) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
+            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + XQ[ci])) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
           } else {
             J = M->rho0 * V1 / blk[PS_CM];
             PetscCall(PSCellsEOS(M, J, ec[PS_EC * m], (V1 - blk[PS_CV]) / blk[PS_CV], &A, &B, &c2));
-            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, *PSCellsX(C, ci, PS_CX_Q), &e1, &pk[0]);
+            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, XQ[ci], &e1, &pk[0]);
           }
           if (M->gamma > 0.0) pk[0] = PetscMax(pk[0], 0.0); /* an ideal gas holds no tension */
           Vh += V1;
@@ -397,7 +404,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
            weighted mean (PSCellsForcePressure) */
         *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
         {
-          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - *PSCellsX(C, ci, PS_CX_Q);
+          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - XQ[ci];
           for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
@@ -423,6 +430,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           }
         }
       }
+    }
   /* the corrector on the owned nodes (their df whole: above): v^{n+1} = v* +
      dt df/m, the boundary conditions, musl's dv = v^{n+1} - v^n; then the
      ghosts */
@@ -474,6 +482,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
 {
   PSCells        *C = S->cells;
+  PetscReal      *XQ = PSCellsX(C, 0, PS_CX_Q), *XV = PSCellsX(C, 0, PS_CX_V); /* the per-cell planes of q and the cells' volumes (PSCellsX) */
   const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   PetscReal       hm = 0.0, smax = 0.0;
@@ -499,14 +508,17 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         PSNodeBCDim(S, dim, ip, &C->vh[dim * o]); /* walls hold the faces on them */
       }
   for (k = C->cs[2]; k < C->ce[2]; k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++)
+    for (j = C->cs[1]; j < C->ce[1]; j++) {
+      PetscInt ci0, oc0, xa, xb;
+      const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
+      PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
       for (i = C->cs[0]; i < C->ce[0]; i++) {
-        const PetscInt   ci = PSCellIdx(C, i, j, k), n = PSCellsXIdx(C, i, j, k);
+        const PetscInt   ci = ci0 + i, n = x0 + i;
         PetscReal       *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n); /* this step's EOS values, from the cells' P2G */
         const PetscReal *hmn = PSCellsHM(C, n, hmat), *hs = &C->hs[hsd * n], qh = hs[0]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
-        const PetscInt   oc = CellNode(ix, dim, i, j, k);
+        const PetscInt   oc = oc0 + i;
         PetscInt         m0, m1;
         CellGradientDim(&C->K, dim, oc, C->vh, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
@@ -514,7 +526,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
            exactly this back) and its share among materials, markers, void */
         trD = L[0][0] + L[1][1] + L[2][2];
         dV  = C->Vc * dt * trD;
-        *PSCellsX(C, ci, PS_CX_V) = C->Vc + dV;
+        XV[ci] = C->Vc + dV;
         PSCellsPresent(C, ci, &m0, &m1);
         CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
@@ -524,7 +536,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
            whose force the nodes felt) */
         rho                        = Mc / Vm;
         q                          = PSViscosity(rho, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
-        *PSCellsX(C, ci, PS_CX_Q) = q;
+        XQ[ci] = q;
         /* hourglass heating: the work of the half step's hourglass force on
            v^{n+1/2}, kappa sum_m g_m^h . g_m dt */
         {
@@ -577,6 +589,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
            order of the quadratic viscosity's own explicit limit h/(2 c_q du) */
         Fastest(S, i, j, k, cmax, vmax, q > 0.0 ? q / (rho * PetscMax(cmax, 0.5 * PetscSqrtReal(q / rho))) : 0.0, rho, &smax);
       }
+    }
   C->smax = smax;
   PetscCall(PetscLogEventEnd(EV_Lag, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
