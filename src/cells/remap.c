@@ -87,11 +87,11 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
     PetscReal         *A = fr->A, *sS = C->sS;
     short             *sP = C->sP;
     for (k = 0; k < n[2]; k++)
-      for (j = 0; j < n[1]; j++)
+      for (j = 0; j < n[1]; j++) {
+        /* the nearest cell of the ghosted box: its row's, then along x */
+        const PetscInt cr = PetscMin(PetscMax(j + o[1], gs[1]), gl[1]) * cst1 + (dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0) * cst2 - coff;
         for (i = 0; i < n[0]; i++) {
-          /* the nearest cell of the ghosted box */
-          const PetscInt   g[3] = {PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), PetscMin(PetscMax(j + o[1], gs[1]), gl[1]), dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0};
-          const PetscInt   ci = g[0] + g[1] * cst1 + g[2] * cst2 - coff, sole = Sole[ci]; /* PSCellIdx */
+          const PetscInt   ci = cr + PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), sole = Sole[ci]; /* PSCellIdx */
           const PetscReal *u = &U[ms * ci], V = XV[ci];
           PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
           PetscInt         m0, m1;
@@ -132,6 +132,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
           }
           a[nm + 1] = 1.0;
         }
+      }
   }
   /* none on the ghosted array's two faces along d: their neighbours along d
      are not in it */
@@ -789,45 +790,52 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      the kinetic energy carried minus that of the remapped momentum, d_i per
      owned node, into K (its own node's value is read first), as
      d_i / (2^dim m_i), for the cells below */
-  for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
-    for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++)
-      for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
-        const PetscInt  o     = Lidx(ix, i[0], i[1], i[2]);
-        const PetscInt  ip[3] = {i[0] - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
-        const PetscReal mn    = C->mcn[o];
-        PetscReal       lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
-        PetscInt        k;
-        /* the bounds over the node and its neighbours along d in the local
-           array that had mass: one test per neighbour, not per component (a
-           neighbour left out is the bounds' start, which changes neither;
-           the node itself, owned, is in the array) */
-        const PetscBool inm = i[d] - 1 >= ix->gs[d], inp = i[d] + 1 < ix->gs[d] + ix->gm[d];
-        for (k = -1; k <= 1; k++) {
-          const PetscInt o2 = o + k * sw.sd;
-          if ((k < 0 && !inm) || (k > 0 && !inp) || !(C->mco[o2] > 0.0)) continue;
+  {
+    const PetscReal *mcn = C->mcn, *mco = C->mco, mass_min = S->mass_min;
+    PetscReal        lost[3] = {S->lost_local.p[0], S->lost_local.p[1], S->lost_local.p[2]}; /* (the same sums, in registers) */
+    for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
+      for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++) {
+        const PetscInt orow = Lidx(ix, 0, i[1], i[2]); /* (node (i0, i1, i2) is orow + i0) */
+        for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
+          const PetscInt  o     = orow + i[0];
+          const PetscInt  ip[3] = {i[0] - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
+          const PetscReal mn    = mcn[o];
+          PetscReal       lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+          PetscInt        k;
+          /* the bounds over the node and its neighbours along d in the local
+             array that had mass: one test per neighbour, not per component (a
+             neighbour left out is the bounds' start, which changes neither;
+             the node itself, owned, is in the array) */
+          const PetscBool inm = i[d] - 1 >= ix->gs[d], inp = i[d] + 1 < ix->gs[d] + ix->gm[d];
+          for (k = -1; k <= 1; k++) {
+            const PetscInt o2 = o + k * sw.sd;
+            if ((k < 0 && !inm) || (k > 0 && !inp) || !(mco[o2] > 0.0)) continue;
+            for (q = 0; q < dim; q++) {
+              lo[q] = PetscMin(lo[q], VL[dim * o2 + q]);
+              hi[q] = PetscMax(hi[q], VL[dim * o2 + q]);
+            }
+          }
           for (q = 0; q < dim; q++) {
-            lo[q] = PetscMin(lo[q], VL[dim * o2 + q]);
-            hi[q] = PetscMax(hi[q], VL[dim * o2 + q]);
+            PetscReal pq = P[dim * o + q];
+            if (mn <= mass_min) pq = 0.0;
+            else if (lo[q] <= hi[q]) pq = mn * PetscMin(PetscMax(pq / mn, lo[q]), hi[q]);
+            lost[q] += P[dim * o + q] - pq;
+            P[dim * o + q] = pq;
           }
-        }
-        for (q = 0; q < dim; q++) {
-          PetscReal pq = P[dim * o + q];
-          if (mn <= S->mass_min) pq = 0.0;
-          else if (lo[q] <= hi[q]) pq = mn * PetscMin(PetscMax(pq / mn, lo[q]), hi[q]);
-          S->lost_local.p[q] += P[dim * o + q] - pq;
-          P[dim * o + q] = pq;
-        }
-        PSNodeBCDim(S, dim, ip, &P[dim * o]);
-        {
-          PetscReal dk = 0.0;
-          if (mn > 0.0) {
-            PetscReal p2 = 0.0;
-            for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
-            dk = (K[o] - 0.5 * p2 / mn) / ((1 << dim) * mn);
+          PSNodeBCDim(S, dim, ip, &P[dim * o]);
+          {
+            PetscReal dk = 0.0;
+            if (mn > 0.0) {
+              PetscReal p2 = 0.0;
+              for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
+              dk = (K[o] - 0.5 * p2 / mn) / ((1 << dim) * mn);
+            }
+            K[o] = dk;
           }
-          K[o] = dk;
         }
       }
+    for (q = 0; q < 3; q++) S->lost_local.p[q] = lost[q];
+  }
   PetscCall(PSHaloBcast(C->sfp, C->P));
   /* d_i to the ghosts; then each owned cell takes from each corner the share
      M_c / (2^dim m_i) of d_i, the share it has in the node's mass (the sum
