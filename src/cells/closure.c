@@ -328,17 +328,22 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
      the markers (not at insertion, which is exact: the boxes only
      approximate pieces cut at a body's edge) */
   for (k = C->cs[2]; k < (fit ? C->ce[2] : C->cs[2]); k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++)
+    for (j = C->cs[1]; j < C->ce[1]; j++) {
+      /* (the test of every cell in locals: the row's first index, the
+         markers' share's plane, the cell volume) */
+      const PetscInt   ci0 = PSCellIdx(C, 0, j, k), ms = C->ms, mst = C->mst, nm = C->nmat;
+      const PetscReal *XA = PSCellsX(C, 0, PS_CX_AM), Vc = C->Vc;
+      const short     *sole = C->sole;
       for (i = C->cs[0]; i < C->ce[0]; i++) {
-        const PetscInt ci = PSCellIdx(C, i, j, k);
-        PetscReal     *u  = &C->u[C->ms * ci];
-        PetscReal      Vm = 0.0, room = C->Vc * PetscMax(1.0 - *PSCellsX(C, ci, PS_CX_AM), 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
+        const PetscInt ci = ci0 + i;
+        PetscReal     *u  = &C->u[ms * ci];
+        PetscReal      Vm = 0.0, room = Vc * PetscMax(1.0 - XA[ci], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
         PetscInt       m0, m1;
-        PSCellsPresent(C, ci, &m0, &m1); /* (the others hold no mass) */
+        PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* (PSCellsPresent; the others hold no mass) */
         for (m = m0; m < m1; m++)
-          if (u[m * C->mst + PS_CM] > 0.0) Vm += u[m * C->mst + PS_CV];
+          if (u[m * mst + PS_CM] > 0.0) Vm += u[m * mst + PS_CV];
         over = Vm - room;
-        if (over <= 1e-12 * C->Vc) continue; /* room enough (nearly every cell): no EOS needed */
+        if (over <= 1e-12 * Vc) continue; /* room enough (nearly every cell): no EOS needed */
         nfit++;
         for (m = 0; m < C->nmat; m++) {
           chi[m] = 0.0;
@@ -403,6 +408,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           blk[PS_CV] = V1;
         }
       }
+    }
   if (!C->markers && fit) {
     PetscBool any = nfit > 0 ? PETSC_TRUE : PETSC_FALSE;
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_BOOL, MPI_LOR, PetscObjectComm((PetscObject)S->da)));
