@@ -19,7 +19,7 @@ PETSC_INTERN PetscErrorCode PSCellsEOSCache(PSSolver *);
    materials with mass (PSCellsPresent; ShareVolume's too, whose dVk and dVr
    are set for those only).  Inline: the cells' P2G and the predictor call it
    for every cell */
-static inline PetscReal PSCellsForcePressure(const PSCells *C, const PetscReal *ec, PetscInt m0, PetscInt m1)
+static inline PetscReal PSCellsForcePressure(const PetscReal *ec, PetscInt m0, PetscInt m1)
 {
   PetscReal sc = 0.0, sp = 0.0;
   PetscInt  m;

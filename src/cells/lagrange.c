@@ -144,7 +144,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         if (Mc <= 0.0) continue;
         /* sum_k V_k s_k - (p_f + q) V_m I, p_f the closure's pressure (closure.c) */
         {
-          const PetscReal pf = PSCellsForcePressure(C, ec, m0, m1);
+          const PetscReal pf = PSCellsForcePressure(ec, m0, m1);
           for (d = 0; d < 3; d++) sig[d][d] -= Vm * pf;
         }
         for (m = m0; m < m1; m++) {
@@ -404,7 +404,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
            weighted mean (PSCellsForcePressure) */
         *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
         {
-          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(C, ec, m0, m1) - XQ[ci];
+          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(ec, m0, m1) - XQ[ci];
           for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
