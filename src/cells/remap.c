@@ -359,7 +359,8 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
   const PetscInt      mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, d = sw->d, cd = sw->cd, sp = ms - 1;
   const PetscReal     A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh;
   const short        *fill = C->sP;
-  const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d];
+  const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d], spcd = sp * cd;
+  const PetscReal    *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS; /* (in locals, with the neighbours' offset in sS) */
   PetscInt            k, q;
 
   for (k = 0; k < n; k++) {
@@ -384,10 +385,10 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
        (FractionsBuild's C->sP: FaceFlux's tests for its slopes, and more) */
     s = fill[uc];
     if (s >= 0 && fill[uc - cd] == s && fill[uc + cd] == s) {
-      const PetscReal *blk = &C->u[ms * uc + mst * s];
-      const PetscReal  V = *PSCellsX(C, uc, PS_CX_V), w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
+      const PetscReal *blk = &U[ms * uc + mst * s];
+      const PetscReal  V = XV[uc], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
       if (vol > 0.0) {
-        const PetscReal *spd = &C->sS[sp * uc], *sp0 = &C->sS[sp * (uc - cd)], *sp1 = &C->sS[sp * (uc + cd)];
+        const PetscReal *spd = &sS[sp * uc], *sp0 = spd - spcd, *sp1 = spd + spcd;
         const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
         const PetscReal  dM = PetscMin(PetscMax(vol * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
         PetscReal       *Fm = &Fk[s * ms];
@@ -614,6 +615,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
   const PetscInt  o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
   const PetscBool owned = j0[1] >= C->cs[1] && j0[2] >= C->cs[2]; /* across x (x: below) */
   const PetscBool innerd = j0[d] > 0 && j0[d] + 1 < C->nc[d];   /* the run inside the domain along d (d > 0; along x: each cell) */
+  const PetscReal *Mcell = C->Mcell, *mcn = C->mcn;              /* (in locals) */
   PetscInt        xa, xb, k, a, b, q;
   PetscBool       ok;
 
@@ -636,7 +638,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
     const PetscReal *fl = &Fl[fs * k], *fh = &Fh[fs * k], Flo = fl[fs - 1], Fhi = fh[fs - 1];
     if (x >= xa && x < xb) {
       if (Flo != 0.0 || Fhi != 0.0) {
-        const PetscReal phi = 0.5 * (Flo + Fhi) / ncol, Mc = C->Mcell[ci]; /* before the sweep */
+        const PetscReal phi = 0.5 * (Flo + Fhi) / ncol, Mc = Mcell[ci]; /* before the sweep */
         const PetscReal nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0, g = 0.5 * (1.0 - nu);
         const PetscBool up = phi > 0.0;
         const PetscInt  ou = up ? 0 : sd, od = up ? sd : 0, ob = up ? -sd : 2 * sd, oc = o0 + k;
@@ -644,7 +646,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
           for (b = 0; b < 2; b++) {
             const PetscInt   oL = oc + b * s1 + a * s2, oU = oL + sd;
             const PetscReal *vu = &VL[dim * (oL + ou)], *vd = &VL[dim * (oL + od)];
-            const PetscReal *vb = C->mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
+            const PetscReal *vb = mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
             PetscReal        vf[3], v2;
             MidPlaneVelocity(dim, vu, vd, vb, g, vf, &v2);
             for (q = 0; q < dim; q++) P[dim * oL + q] -= phi * vf[q];
