@@ -530,7 +530,8 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
   for (q = 0; q < C->ms; q++) b[q] = 0.0;
 }
 
-/* an owned cell's update (i, its index ci in the ghosted array) from its faces' fluxes fl (lower) and fh (upper),
+/* an owned cell's update (i, its index ci in the ghosted array, u its state
+   and V its volume) from its faces' fluxes fl (lower) and fh (upper),
    which hold the materials [rl[0], rl[1]) and [rh[0], rh[1]): in through the
    lower face, out through the upper.  Materials in neither range are not
    touched (their fluxes are zero: u + (0 - 0) is u), and only those fluxed
@@ -538,11 +539,10 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
    zero, which the test skips).  inner: the cell is neither the domain's
    first nor its last along d (no free face of the domain).  Always inline: GCC kept it out of line, and
    the call cost about 15 instructions per cell and sweep */
-static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, PetscBool inner, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
+static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, PetscBool inner, PetscReal *u, PetscReal *V, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
   const PetscInt  d = sw->d, ms = C->ms, mst = C->mst, nm = C->nmat, fs = nm * ms + 2;
-  PetscReal      *u = &C->u[ms * ci], *V = PSCellsX(C, ci, PS_CX_V);
   PetscInt        m, q, f0, f1, m0, m1;
 
   /* nearly every cell of a single-material region: it holds material s
@@ -616,6 +616,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
   const PetscBool owned = j0[1] >= C->cs[1] && j0[2] >= C->cs[2]; /* across x (x: below) */
   const PetscBool innerd = j0[d] > 0 && j0[d] + 1 < C->nc[d];   /* the run inside the domain along d (d > 0; along x: each cell) */
   const PetscReal *Mcell = C->Mcell, *mcn = C->mcn;              /* (in locals) */
+  PetscReal       *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V);
   PetscInt        xa, xb, k, a, b, q;
   PetscBool       ok;
 
@@ -661,7 +662,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
     }
     if (owned && x >= C->cs[0]) {
       const PetscInt j[3] = {x, j0[1], j0[2]};
-      CellUpdate(S, sw, j, ci, d == 0 ? x > 0 && x + 1 < C->nc[0] : innerd, fl, fh, &Rl[2 * k], &Rh[2 * k]);
+      CellUpdate(S, sw, j, ci, d == 0 ? x > 0 && x + 1 < C->nc[0] : innerd, &U[C->ms * ci], &XV[ci], fl, fh, &Rl[2 * k], &Rh[2 * k]);
     }
   }
 }
