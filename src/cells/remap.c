@@ -537,8 +537,9 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
    touched (their fluxes are zero: u + (0 - 0) is u), and only those fluxed
    or with mass before the sweep are tested for discard (the others are all
    zero, which the test skips).  inner: the cell is neither the domain's
-   first nor its last along d (no free face of the domain).  Always inline: GCC kept it out of line, and
-   the call cost about 15 instructions per cell and sweep */
+   first nor its last along d (no free face of the domain).  Always inline:
+   GCC kept it out of line, and the call cost about 15 instructions per cell
+   and sweep */
 static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, PetscBool inner, PetscReal *u, PetscReal *V, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
@@ -853,10 +854,9 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (c = 0; c < (1 << dim); c++) off[c] = C->K.off[c];
     for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
       for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++) {
-        const PetscInt ci0 = PSCellIdx(C, C->cs[0], i[1], i[2]) - C->cs[0];
-        i[0] = C->cs[0];
-        const PetscInt o00 = Node(ix, dim, i) - C->cs[0];
-        for (; i[0] < C->ce[0]; i[0]++) {
+        PetscInt ci0, o00, xa, xb;
+        PSCellsRow(C, ix, dim, i[1], i[2], &ci0, &o00, &xa, &xb); /* (cell x: ci0 + x, its lower corner node o00 + x) */
+        for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
           const PetscInt ci = ci0 + i[0], o0 = o00 + i[0];
           PetscReal     *u = &U[ms * ci], Mc = Mcell[ci], dE = 0.0;
           PetscInt       m0, m1;
