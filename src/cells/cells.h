@@ -234,13 +234,13 @@ static inline PetscInt PSCellsOwnedRow(const PSIndex *ix, PetscInt dim, PetscInt
 /* a row of cells (j, k): cell (i, j, k)'s ghosted index (PSCellIdx) is
    ci0 + i and its lower corner node's local index oc0 + i; the cells
    [xa, xb) have both their corners along x owned (PSCellsOwnedAxis(ix, 0,
-   i) = 0xff: the loops test the row's ends alone) */
+   i) = 0xff: the loops test the row's ends alone; xa, xb may be NULL) */
 static inline void PSCellsRow(const PSCells *C, const PSIndex *ix, PetscInt dim, PetscInt j, PetscInt k, PetscInt *ci0, PetscInt *oc0, PetscInt *xa, PetscInt *xb)
 {
   *ci0 = PSCellIdx(C, 0, j, k);
   *oc0 = Lidx(ix, PS_PAD, j + PS_PAD, dim == 3 ? k + PS_PAD : 0);
-  *xa  = ix->os[0] - PS_PAD;                 /* the lower node i + PS_PAD >= os */
-  *xb  = ix->os[0] + ix->om[0] - PS_PAD - 1; /* the upper node i + PS_PAD + 1 < os + om */
+  if (xa) *xa = ix->os[0] - PS_PAD;                 /* the lower node i + PS_PAD >= os */
+  if (xb) *xb = ix->os[0] + ix->om[0] - PS_PAD - 1; /* the upper node i + PS_PAD + 1 < os + om */
 }
 
 /* ... and in all directions, of cell (i, j, k) */

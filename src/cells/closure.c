@@ -345,10 +345,10 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
         over = Vm - room;
         if (over <= 1e-12 * Vc) continue; /* room enough (nearly every cell): no EOS needed */
         nfit++;
-        for (m = 0; m < C->nmat; m++) {
+        for (m = 0; m < nm; m++) {
           chi[m] = 0.0;
-          if (u[m * C->mst + PS_CM] <= 0.0) continue;
-          PetscCall(Compliance(S, m, &u[m * C->mst], &chi[m], &pk[m]));
+          if (u[m * mst + PS_CM] <= 0.0) continue;
+          PetscCall(Compliance(S, m, &u[m * mst], &chi[m], &pk[m]));
           sumchi += chi[m];
         }
         if (sumchi <= 0.0) continue;
@@ -356,16 +356,16 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
            that little is discarded (booked as lost) rather than crushed: a
            sliver squeezed against a marker body takes pressures that are no
            material's */
-        if (Vm < PS_CROWD * C->Vc && room < Vm) {
-          for (m = 0; m < C->nmat; m++) {
-            PetscReal *blk = &u[m * C->mst];
+        if (Vm < PS_CROWD * Vc && room < Vm) {
+          for (m = 0; m < nm; m++) {
+            PetscReal *blk = &u[m * mst];
             PetscInt   q;
             dep[2 * ci] += blk[PS_CM];
             C->dep_dirty = PETSC_TRUE;
             S->lost_local.mass += blk[PS_CM];
             S->lost_local.internal += blk[PS_CE];
             C->discarded += blk[PS_CM];
-            for (q = 0; q < C->ms; q++) blk[q] = 0.0;
+            for (q = 0; q < ms; q++) blk[q] = 0.0;
           }
           continue;
         }
@@ -377,26 +377,26 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
            docs/contact.md) */
         if (S->contact && ContactZone(S, &ix, i, j, k)) {
           const PetscReal phi = PetscMin(over / Vm, 1.0);
-          for (m = 0; m < C->nmat; m++) {
-            PetscReal *blk = &u[m * C->mst];
+          for (m = 0; m < nm; m++) {
+            PetscReal *blk = &u[m * mst];
             PetscInt   q;
             dep[2 * ci] += phi * blk[PS_CM];
             C->dep_dirty = PETSC_TRUE;
             S->lost_local.mass += phi * blk[PS_CM];
             S->lost_local.internal += phi * blk[PS_CE];
             C->discarded += phi * blk[PS_CM];
-            for (q = 0; q < C->ms; q++) blk[q] *= 1.0 - phi; /* mass, energy, volume and the extensive strength state */
+            for (q = 0; q < ms; q++) blk[q] *= 1.0 - phi; /* mass, energy, volume and the extensive strength state */
           }
           continue;
         }
         /* no material is squeezed by more than a fifth of its volume in one
            step (the trapezoidal energy update stays accurate); the rest
            waits for the next */
-        for (m = 0; m < C->nmat; m++)
-          if (chi[m] > 0.0) over = PetscMin(over, 0.2 * u[m * C->mst + PS_CV] * sumchi / chi[m]);
-        for (m = 0; m < C->nmat; m++) {
+        for (m = 0; m < nm; m++)
+          if (chi[m] > 0.0) over = PetscMin(over, 0.2 * u[m * mst + PS_CV] * sumchi / chi[m]);
+        for (m = 0; m < nm; m++) {
           const PSMaterial *M   = &S->mat[C->mat[m]];
-          PetscReal        *blk = &u[m * C->mst];
+          PetscReal        *blk = &u[m * mst];
           PetscReal         dVm, V1, A, B, c2, e1, p1;
           if (chi[m] <= 0.0) continue;
           dVm = -over * chi[m] / sumchi;

@@ -509,9 +509,9 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
       }
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++) {
-      PetscInt ci0, oc0, xa, xb;
+      PetscInt       ci0, oc0;
       const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
-      PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
+      PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, NULL, NULL);
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt   ci = ci0 + i, n = x0 + i;
         PetscReal       *u  = &C->u[C->ms * ci];

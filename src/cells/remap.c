@@ -854,8 +854,8 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (c = 0; c < (1 << dim); c++) off[c] = C->K.off[c];
     for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
       for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++) {
-        PetscInt ci0, o00, xa, xb;
-        PSCellsRow(C, ix, dim, i[1], i[2], &ci0, &o00, &xa, &xb); /* (cell x: ci0 + x, its lower corner node o00 + x) */
+        PetscInt ci0, o00;
+        PSCellsRow(C, ix, dim, i[1], i[2], &ci0, &o00, NULL, NULL); /* (cell x: ci0 + x, its lower corner node o00 + x) */
         for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
           const PetscInt ci = ci0 + i[0], o0 = o00 + i[0];
           PetscReal     *u = &U[ms * ci], Mc = Mcell[ci], dE = 0.0;
