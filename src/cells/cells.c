@@ -120,7 +120,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   for (d = 0; d < 3; d++) nn *= ix.gm[d];
   C->nnl = nn;
   PetscCall(PetscCalloc1(nn * S->dim, &C->P));
-  PetscCall(PetscMalloc2(nn, &C->sK, nn * S->dim, &C->sVL)); /* the remap's scratch; sVL is the cells' P2G's too */
+  PetscCall(PetscMalloc4(nn, &C->sK, nn * S->dim, &C->sVL, ix.gm[0] * S->dim, &C->sdP, ix.gm[0] * ((S->dim + 1) * (S->dim == 3 ? 4 : 2) + 1), &C->sW)); /* the remap's scratch; sVL is the cells' P2G's too */
   PetscCall(PetscCalloc1(nn, &C->mcn)); /* mcn and mco apart: the remap's sweeps swap them */
   PetscCall(PetscCalloc1(nn, &C->mco));
   PetscCall(PetscCalloc1(nn * S->dim, &C->vh));
@@ -159,7 +159,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->ec));
   PetscCall(PetscFree((*C)->eco));
   PetscCall(PetscFree((*C)->hm));
-  PetscCall(PetscFree2((*C)->sK, (*C)->sVL));
+  PetscCall(PetscFree4((*C)->sK, (*C)->sVL, (*C)->sdP, (*C)->sW));
   PetscCall(PetscSFDestroy(&(*C)->sfk));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));

@@ -425,14 +425,14 @@ static inline void SliceRange(PetscInt d, const PetscInt lo[3], const PetscInt h
 /* a free face of the domain lets a boundary node's share out: the mass out
    (kg) at the node's velocity v, its momentum (P) and kinetic energy (K)
    booked as lost */
-static inline void Outflow(PSSolver *S, PetscInt dim, PetscReal out, const PetscReal *v, PetscReal *P, PetscReal *K)
+static inline void Outflow(PSSolver *S, PetscInt dim, PetscReal out, const PetscReal *v, PetscInt nv, PetscReal *P, PetscReal *K)
 {
   PetscReal k2 = 0.0;
   PetscInt  q;
   for (q = 0; q < dim; q++) {
-    P[q] -= out * v[q];
-    S->lost_local.p[q] += out * v[q];
-    k2 += v[q] * v[q];
+    P[q] -= out * v[q * nv];
+    S->lost_local.p[q] += out * v[q * nv];
+    k2 += v[q * nv] * v[q * nv];
   }
   *K -= 0.5 * out * k2;
   S->lost_local.kinetic += 0.5 * out * k2;
@@ -440,14 +440,113 @@ static inline void Outflow(PSSolver *S, PetscInt dim, PetscReal out, const Petsc
 
 /* the velocity a node column carries across a cell's mid-plane: the upwind
    node's vu with a van Leer slope toward the mid-plane (vd downwind, vb
-   beyond upwind; g = (1 - nu)/2), and its square (DualFlux, CellRun) */
-static inline void MidPlaneVelocity(const PetscInt dim, const PetscReal *vu, const PetscReal *vd, const PetscReal *vb, PetscReal g, PetscReal vf[3], PetscReal *v2)
+   beyond upwind; g = (1 - nu)/2), and its square (DualFlux); v: the
+   nodes' component planes of length nv (VL) */
+static inline void MidPlaneVelocity(const PetscInt dim, const PetscReal *vu, const PetscReal *vd, const PetscReal *vb, PetscInt nv, PetscReal g, PetscReal vf[3], PetscReal *v2)
 {
   PetscInt q;
   *v2 = 0.0;
   for (q = 0; q < dim; q++) {
-    vf[q] = vu[q] + g * VanLeer(vu[q] - vb[q], vd[q] - vu[q]);
+    vf[q] = vu[q * nv] + g * VanLeer(vu[q * nv] - vb[q * nv], vd[q * nv] - vu[q * nv]);
     *v2 += vf[q] * vf[q];
+  }
+}
+
+/* DualFlux's arithmetic for the cells k in [ka, kb) of a run whose dual
+   fluxes need no test (CellRun's fast range; o0: the run's first cell's
+   lower corner node, Fl, Fh its faces' flux records of fs reals, Mc0 its
+   cells' masses before the sweep): per node column c (b + 2 a) the momentum
+   phi v_f (dim planes) and the kinetic energy phi v_f^2 / 2 it carries across
+   the cell's mid-plane, into W (plane l of column c at W[(c (dim + 1) + l) w]).
+   The same values as DualFlux's, without a branch: every candidate node is
+   loaded (the upwind, downwind and beyond-upwind nodes of either direction;
+   the fast range has them all) and chosen by value, a divisor is 1 where the
+   value is not used, so the loop runs in SIMD lanes.  CellRun then adds them
+   to the nodes in DualFlux's order */
+static inline void DualFluxLanes(const PetscInt dim, const PetscReal *VL, PetscInt nv, const PetscReal *mcn, const PetscReal *Mc0, const PetscReal *Fl, const PetscReal *Fh, PetscInt fs, PetscInt o0, PetscInt sd, PetscInt s1, PetscInt s2, PetscInt ka, PetscInt kb, PetscInt w, PetscReal *W)
+{
+  const PetscInt ncol = dim == 3 ? 4 : 2;
+  PetscInt       k, c, q;
+
+#pragma GCC ivdep
+  for (k = ka; k < kb; k++) {
+    const PetscReal Flo = Fl[fs * k + fs - 1], Fhi = Fh[fs * k + fs - 1], F = Flo + Fhi, Mc = Mc0[k], Md = Mc > 0.0 ? Mc : 1.0;
+    const PetscReal phi = 0.5 * F / ncol, rF = PetscMin(PetscAbsReal(F) / Md, 1.0), nu = Mc > 0.0 ? rF : 1.0, g = 0.5 * (1.0 - nu);
+    const PetscBool up = phi > 0.0;
+#pragma GCC unroll 4
+    for (c = 0; c < ncol; c++) { /* (column c: b = c & 1, a = c >> 1) */
+      const PetscInt  oL = o0 + k + (c & 1) * s1 + (c >> 1) * s2;
+      const PetscReal mLm = mcn[oL - sd], mUp = mcn[oL + 2 * sd], mb = up ? mLm : mUp;
+      PetscReal       v2 = 0.0;
+#pragma GCC unroll 3
+      for (q = 0; q < dim; q++) {
+        const PetscReal *Vq = &VL[q * nv], vL = Vq[oL], vU = Vq[oL + sd], vLm = Vq[oL - sd], vUp = Vq[oL + 2 * sd];
+        const PetscReal vu = up ? vL : vU, vd = up ? vU : vL, vb = mb > 0.0 ? (up ? vLm : vUp) : vu;
+        const PetscReal s = vu - vb, t = vd - vu, st = s * t, sum = s + t, den = st > 0.0 ? sum : 1.0, vl = 2.0 * s * t / den;
+        const PetscReal vf = vu + g * (st > 0.0 ? vl : 0.0); /* (VanLeer) */
+        v2 += vf * vf;
+        W[(c * (dim + 1) + q) * w + k] = phi * vf;
+      }
+      W[(c * (dim + 1) + dim) * w + k] = phi * 0.5 * v2;
+    }
+    W[ncol * (dim + 1) * w + k] = Flo != 0.0 || Fhi != 0.0 ? 1.0 : 0.0; /* (the cell's mid-plane carries anything) */
+  }
+}
+
+/* the dual fluxes of DualFluxLanes (W) to the nodes, for the cells k in
+   [ka, kb) of a run: corner r = 2 c + side of a cell (column c, side 0 its
+   lower node, which gives up phi v_f, 1 its upper, which takes it) is node
+   o0 + k + off_r.  A node in the run takes one corner of each of two cells
+   at most: cell j - 1's (its corner B, one along x beyond A), then cell j's
+   (A), the order of DualFlux cell by cell; so the nodes of a pair of corners
+   (A, B) take them in SIMD lanes, with the same sums in the same order.  A
+   cell whose mid-plane carries nothing (its flag in W) gives nothing */
+static inline void DualFluxNodes(const PetscInt dim, PetscInt o0, PetscInt sd, PetscInt s1, PetscInt s2, PetscInt ka, PetscInt kb, PetscInt w, const PetscReal *W, PetscReal *P, PetscReal *K)
+{
+  const PetscInt   ncol = dim == 3 ? 4 : 2, nco = 2 * ncol;
+  const PetscReal *Wf   = &W[ncol * (dim + 1) * w];
+  PetscInt         off[8], r, rb, j, q;
+
+  for (r = 0; r < nco; r++) off[r] = ((r >> 1) & 1) * s1 + (r >> 2) * s2 + (r & 1) * sd;
+  for (r = 0; r < nco; r++) {
+    /* r is an A corner (none one below it along x); rb its B */
+    for (rb = 0; rb < nco && off[rb] != off[r] - 1; rb++) {}
+    if (rb < nco) continue;
+    for (rb = 0; rb < nco && off[rb] != off[r] + 1; rb++) {}
+    {
+      const PetscReal  sA = r & 1 ? 1.0 : -1.0, sB = rb & 1 ? 1.0 : -1.0;
+      const PetscReal *WA = &W[(r >> 1) * (dim + 1) * w], *WB = &W[(rb >> 1) * (dim + 1) * w];
+      PetscReal       *PA = &P[dim * (o0 + off[r])], *KA = &K[o0 + off[r]];
+      /* node ka: cell ka's A alone (cell ka - 1 is not in the range) */
+      if (Wf[ka] != 0.0) {
+        for (q = 0; q < dim; q++) PA[dim * ka + q] = PA[dim * ka + q] + sA * WA[q * w + ka];
+        KA[ka] = KA[ka] + sA * WA[dim * w + ka];
+      }
+      /* nodes ka + 1 .. kb - 1: cell j - 1's B, then cell j's A */
+#pragma GCC ivdep
+      for (j = ka + 1; j < kb; j++) {
+        const PetscBool fb = Wf[j - 1] != 0.0, fa = Wf[j] != 0.0;
+        PetscReal       pb, pa, p;
+#pragma GCC unroll 3
+        for (q = 0; q < dim; q++) {
+          p                 = PA[dim * j + q];
+          pb                = p + sB * WB[q * w + j - 1];
+          p                 = fb ? pb : p;
+          pa                = p + sA * WA[q * w + j];
+          PA[dim * j + q] = fa ? pa : p;
+        }
+        p      = KA[j];
+        pb     = p + sB * WB[dim * w + j - 1];
+        p      = fb ? pb : p;
+        pa     = p + sA * WA[dim * w + j];
+        KA[j] = fa ? pa : p;
+      }
+      /* node kb: cell kb - 1's B alone */
+      if (Wf[kb - 1] != 0.0) {
+        for (q = 0; q < dim; q++) PA[dim * kb + q] = PA[dim * kb + q] + sB * WB[q * w + kb - 1];
+        KA[kb] = KA[kb] + sB * WB[dim * w + kb - 1];
+      }
+    }
   }
 }
 
@@ -461,7 +560,7 @@ static inline void MidPlaneVelocity(const PetscInt dim, const PetscReal *vu, con
 static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal Flo, PetscReal Fhi, const PetscReal *VL, PetscReal *P, PetscReal *K)
 {
   const PSCells  *C = S->cells;
-  const PetscInt  d = sw->d, t1 = sw->t1, t2 = sw->t2, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2;
+  const PetscInt  d = sw->d, t1 = sw->t1, t2 = sw->t2, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2, nv = C->nnl;
   const PetscBool bl = i[d] == 0 && Flo < 0.0;             /* outflow through a free face below */
   const PetscBool bu = i[d] + 1 == C->nc[d] && Fhi > 0.0;  /* or above */
   PetscReal       phi, Mc, nu, g;
@@ -490,22 +589,22 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
   for (a = 0; a < (dim == 3 ? 2 : 1); a++)
     for (b = 0; b < 2; b++) {
       const PetscInt   oL = o0 + b * s1 + a * s2, oU = oL + sd;
-      const PetscReal *vL = &VL[dim * oL], *vU = &VL[dim * oU], *vu = &VL[dim * (oL + ou)], *vd = &VL[dim * (oL + od)];
-      const PetscReal *vb = inb && C->mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
+      const PetscReal *vL = &VL[oL], *vU = &VL[oU], *vu = &VL[oL + ou], *vd = &VL[oL + od];
+      const PetscReal *vb = inb && C->mcn[oL + ob] > 0.0 ? &VL[oL + ob] : vu;
       PetscReal        vf[3], v2;
       /* the column's nodes are this rank's if its transverse indices are */
       if (!(OwnedIndex(ix, t1, i[t1] + b) && (dim < 3 || OwnedIndex(ix, t2, i[t2] + a)))) continue;
-      MidPlaneVelocity(dim, vu, vd, vb, g, vf, &v2);
+      MidPlaneVelocity(dim, vu, vd, vb, nv, g, vf, &v2);
       if (own0) {
         for (q = 0; q < dim; q++) P[dim * oL + q] -= phi * vf[q];
         K[oL] -= phi * 0.5 * v2;
         /* free faces of the domain: outflow takes the boundary node's share */
-        if (bl) Outflow(S, dim, -Flo / ncol, vL, &P[dim * oL], &K[oL]);
+        if (bl) Outflow(S, dim, -Flo / ncol, vL, nv, &P[dim * oL], &K[oL]);
       }
       if (own1) {
         for (q = 0; q < dim; q++) P[dim * oU + q] += phi * vf[q];
         K[oU] += phi * 0.5 * v2;
-        if (bu) Outflow(S, dim, Fhi / ncol, vU, &P[dim * oU], &K[oU]);
+        if (bu) Outflow(S, dim, Fhi / ncol, vU, nv, &P[dim * oU], &K[oU]);
       }
     }
 }
@@ -612,13 +711,15 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
 static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *P, PetscReal *K)
 {
   const PSCells  *C = S->cells;
-  const PetscInt  d = sw->d, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2, fs = C->nmat * C->ms + 2;
+  const PetscInt  d = sw->d, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, fs = C->nmat * C->ms + 2;
   const PetscInt  o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
   const PetscBool owned = j0[1] >= C->cs[1] && j0[2] >= C->cs[2]; /* across x (x: below) */
   const PetscBool innerd = j0[d] > 0 && j0[d] + 1 < C->nc[d];   /* the run inside the domain along d (d > 0; along x: each cell) */
   const PetscReal *Mcell = C->Mcell, *mcn = C->mcn;              /* (in locals) */
   PetscReal       *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V);
-  PetscInt        xa, xb, k, a, b, q;
+  const PetscInt  nw = ix->gm[0]; /* (W's plane length: C->sW's) */
+  PetscReal       *W = C->sW;
+  PetscInt        xa, xb, ka, kb, k;
   PetscBool       ok;
 
   /* the range [xa, xb) of x where the cell's dual flux needs no test: inside
@@ -635,29 +736,18 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
     xb = ix->os[0] + ix->om[0] - PS_PAD - 1;
   }
   if (!ok) xb = xa;
+  /* the fast range's dual fluxes, in SIMD lanes (a run's cells, k) */
+  ka = PetscMin(PetscMax(xa - j0[0], 0), n);
+  kb = PetscMin(PetscMax(xb - j0[0], ka), n);
+  DualFluxLanes(dim, VL, C->nnl, mcn, &Mcell[u0], Fl, Fh, fs, o0, sd, s1, s2, ka, kb, nw, W);
   for (k = 0; k < n; k++) {
     const PetscInt   x = j0[0] + k, ci = u0 + k;
     const PetscReal *fl = &Fl[fs * k], *fh = &Fh[fs * k], Flo = fl[fs - 1], Fhi = fh[fs - 1];
-    if (x >= xa && x < xb) {
-      if (Flo != 0.0 || Fhi != 0.0) {
-        const PetscReal phi = 0.5 * (Flo + Fhi) / ncol, Mc = Mcell[ci]; /* before the sweep */
-        const PetscReal nu = Mc > 0.0 ? PetscMin(PetscAbsReal(Flo + Fhi) / Mc, 1.0) : 1.0, g = 0.5 * (1.0 - nu);
-        const PetscBool up = phi > 0.0;
-        const PetscInt  ou = up ? 0 : sd, od = up ? sd : 0, ob = up ? -sd : 2 * sd, oc = o0 + k;
-        for (a = 0; a < (dim == 3 ? 2 : 1); a++)
-          for (b = 0; b < 2; b++) {
-            const PetscInt   oL = oc + b * s1 + a * s2, oU = oL + sd;
-            const PetscReal *vu = &VL[dim * (oL + ou)], *vd = &VL[dim * (oL + od)];
-            const PetscReal *vb = mcn[oL + ob] > 0.0 ? &VL[dim * (oL + ob)] : vu;
-            PetscReal        vf[3], v2;
-            MidPlaneVelocity(dim, vu, vd, vb, g, vf, &v2);
-            for (q = 0; q < dim; q++) P[dim * oL + q] -= phi * vf[q];
-            K[oL] -= phi * 0.5 * v2;
-            for (q = 0; q < dim; q++) P[dim * oU + q] += phi * vf[q];
-            K[oU] += phi * 0.5 * v2;
-          }
-      }
-    } else {
+    /* the fast range's dual fluxes to the nodes, all before its first cell's
+       update (the update touches no node; the cells before it have given
+       theirs, the cells after it give theirs after) */
+    if (k == ka && ka < kb) DualFluxNodes(dim, o0, sd, s1, s2, ka, kb, nw, W, P, K);
+    if (k < ka || k >= kb) {
       const PetscInt j[3] = {x, j0[1], j0[2]};
       DualFlux(S, ix, sw, dim, j, Flo, Fhi, VL, P, K);
     }
@@ -668,6 +758,46 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
   }
 }
 
+/* the KE fix's bounds of owned node o (sweep along the node stride sd): its
+   velocity kept within the range of each component over the node and its
+   neighbours along d before the sweep that had mass (VL in planes of nv,
+   mco; inm, inp: the neighbours are in the local array), its momentum P cut
+   to it (none on a node at or below mass_min), what is cut into dP.  Without
+   a branch (every load made, every test a choice between values, computed
+   before it; a divisor for every node), so a row's loop takes it in SIMD
+   lanes; a neighbour out of the array is the node itself again, and one
+   without mass leaves the bounds as they were: neither changes them */
+static inline void KEBounds(const PetscInt dim, PetscInt sd, PetscInt o, PetscBool inm, PetscBool inp, const PetscReal *mcn, const PetscReal *mco, PetscReal mass_min, const PetscReal *VL, PetscInt nv, PetscReal *P, PetscReal *dP)
+{
+  const PetscInt  sm = inm ? sd : 0, sp = inp ? sd : 0, om = o - sm, op = o + sp; /* (a neighbour out of the array is the node itself again: the same bounds; sm, sp the same over a row) */
+  const PetscReal mn = mcn[o], mv = mn > mass_min ? mn : 1.0;
+  PetscInt        q;
+
+#pragma GCC unroll 3
+  for (q = 0; q < dim; q++) {
+    const PetscReal vm = VL[q * nv + om], v0 = VL[q * nv + o], vp = VL[q * nv + op], pq = P[dim * o + q], r = pq / mv;
+    PetscReal       lo = PETSC_MAX_REAL, hi = -PETSC_MAX_REAL, pn;
+    PetscReal       l, h, c;
+    l  = PetscMin(lo, vm);
+    h  = PetscMax(hi, vm);
+    lo = mco[om] > 0.0 ? l : lo;
+    hi = mco[om] > 0.0 ? h : hi;
+    l  = PetscMin(lo, v0);
+    h  = PetscMax(hi, v0);
+    lo = mco[o] > 0.0 ? l : lo;
+    hi = mco[o] > 0.0 ? h : hi;
+    l  = PetscMin(lo, vp);
+    h  = PetscMax(hi, vp);
+    lo = mco[op] > 0.0 ? l : lo;
+    hi = mco[op] > 0.0 ? h : hi;
+    c  = mn * PetscMin(PetscMax(r, lo), hi);
+    pn = lo <= hi ? c : pq;
+    pn = mn <= mass_min ? 0.0 : pn;
+    dP[q]          = pq - pn;
+    P[dim * o + q] = pn;
+  }
+}
+
 /* one sweep along d; dim a constant where it is called (Sweep picks 2D or
    3D), so the loops over a face's corners and a node's components unroll */
 static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, const PetscInt dim)
@@ -675,6 +805,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   PSCells        *C = S->cells;
   const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   PetscReal      *F, *K, *VL, *P = C->P;
+  const PetscInt  nv = C->nnl; /* (VL's plane length) */
   PetscInt       *R, lo[3], hi[3], i[3], e, m, q, ns;
   PSSweepDirs     sw;
 
@@ -699,15 +830,22 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      upper corner nodes, added into P; free faces let the nodes' share out.
      Velocities (VL) and kinetic energies (K) before the sweep, over every
      local node (VL is kept through the sweep: the KE fix below takes the
-     bounds of the remapped velocity from it) */
-  for (e = 0; e < C->nnl; e++) {
-    const PetscReal im = C->mcn[e] > 0.0 ? 1.0 / C->mcn[e] : 0.0;
-    PetscReal       p2 = 0.0;
-    for (q = 0; q < dim; q++) {
-      VL[dim * e + q] = P[dim * e + q] * im;
-      p2 += P[dim * e + q] * P[dim * e + q];
+     bounds of the remapped velocity from it); VL in dim planes of the
+     nodes (component q of node e at VL[q nnl + e]), so a run of cells or
+     nodes loads its velocities in SIMD lanes (DualFluxLanes, KEBounds) */
+  {
+    const PetscReal *mcn = C->mcn;
+#pragma GCC ivdep
+    for (e = 0; e < nv; e++) {
+      const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
+      PetscReal       p2 = 0.0;
+#pragma GCC unroll 3
+      for (q = 0; q < dim; q++) {
+        VL[q * nv + e] = P[dim * e + q] * im;
+        p2 += P[dim * e + q] * P[dim * e + q];
+      }
+      K[e] = 0.5 * p2 * im;
     }
-    K[e] = 0.5 * p2 * im;
   }
   PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
   /* faces, the momentum's dual fluxes and the cells' update, slice by slice
@@ -796,46 +934,49 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      d_i / (2^dim m_i), for the cells below */
   {
     const PetscReal *mcn = C->mcn, *mco = C->mco, mass_min = S->mass_min;
+    const PetscInt   x0 = ix->os[0], x1 = ix->os[0] + ix->om[0];
     PetscReal        lost[3] = {S->lost_local.p[0], S->lost_local.p[1], S->lost_local.p[2]}; /* (the same sums, in registers) */
+    PetscReal       *dP      = C->sdP;
     for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
       for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++) {
-        const PetscInt orow = Lidx(ix, 0, i[1], i[2]); /* (node (i0, i1, i2) is orow + i0) */
-        for (i[0] = ix->os[0]; i[0] < ix->os[0] + ix->om[0]; i[0]++) {
-          const PetscInt  o     = orow + i[0];
-          const PetscInt  ip[3] = {i[0] - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
-          const PetscReal mn    = mcn[o];
-          PetscReal       lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
-          PetscInt        k;
-          /* the bounds over the node and its neighbours along d in the local
-             array that had mass: one test per neighbour, not per component (a
-             neighbour left out is the bounds' start, which changes neither;
-             the node itself, owned, is in the array) */
-          const PetscBool inm = i[d] - 1 >= ix->gs[d], inp = i[d] + 1 < ix->gs[d] + ix->gm[d];
-          for (k = -1; k <= 1; k++) {
-            const PetscInt o2 = o + k * sw.sd;
-            if ((k < 0 && !inm) || (k > 0 && !inp) || !(mco[o2] > 0.0)) continue;
-            for (q = 0; q < dim; q++) {
-              lo[q] = PetscMin(lo[q], VL[dim * o2 + q]);
-              hi[q] = PetscMax(hi[q], VL[dim * o2 + q]);
-            }
+        const PetscInt  orow = Lidx(ix, 0, i[1], i[2]); /* (node (x, i1, i2) is orow + x) */
+        const PetscBool face = dim == 3 ? !(i[1] - PS_PAD > 0 && i[1] - PS_PAD < S->nc[1] && i[2] - PS_PAD > 0 && i[2] - PS_PAD < S->nc[2]) : !(i[1] - PS_PAD > 0 && i[1] - PS_PAD < S->nc[1]);
+        PetscInt        x, xa = x0, xb = x1;
+        /* a row across d (d = y, z): its neighbours along d are in the local
+           array or not for the whole row; along d = x only the row's first and
+           last nodes can lack one, and take the test of their own (KEBounds) */
+        if (d == 0) {
+          xa = x0 + 1;
+          xb = PetscMax(x1 - 1, xa);
+          KEBounds(dim, sw.sd, orow + x0, x0 - 1 >= ix->gs[0], x0 + 1 < ix->gs[0] + ix->gm[0], mcn, mco, mass_min, VL, nv, P, &dP[0]);
+          if (x1 - 1 > x0) KEBounds(dim, sw.sd, orow + x1 - 1, x1 - 2 >= ix->gs[0], x1 < ix->gs[0] + ix->gm[0], mcn, mco, mass_min, VL, nv, P, &dP[dim * (x1 - 1 - x0)]);
+        }
+        {
+          const PetscBool inm = i[d] - 1 >= ix->gs[d] || d == 0, inp = i[d] + 1 < ix->gs[d] + ix->gm[d] || d == 0;
+#pragma GCC ivdep /* (P, dP, VL, mcn and mco are apart) */
+          for (x = xa; x < xb; x++) KEBounds(dim, sw.sd, orow + x, inm, inp, mcn, mco, mass_min, VL, nv, P, &dP[dim * (x - x0)]);
+        }
+        /* what was cut, in the order of the nodes (the same sums) */
+        for (x = x0; x < x1; x++)
+          for (q = 0; q < dim; q++) lost[q] += dP[dim * (x - x0) + q];
+        /* the boundary conditions: every node of a row on a face of the
+           domain across x (or in the padding beyond it), else the nodes at or
+           beyond x's faces (PSNodeBCDim leaves the others) */
+        for (x = x0; x < x1; x++) {
+          if (!face && x - PS_PAD > 0 && x - PS_PAD < S->nc[0]) x = PetscMax(x, S->nc[0] + PS_PAD); /* (to x's upper face) */
+          if (x < x1) {
+            const PetscInt ip[3] = {x - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
+            PSNodeBCDim(S, dim, ip, &P[dim * (orow + x)]);
           }
-          for (q = 0; q < dim; q++) {
-            PetscReal pq = P[dim * o + q];
-            if (mn <= mass_min) pq = 0.0;
-            else if (lo[q] <= hi[q]) pq = mn * PetscMin(PetscMax(pq / mn, lo[q]), hi[q]);
-            lost[q] += P[dim * o + q] - pq;
-            P[dim * o + q] = pq;
-          }
-          PSNodeBCDim(S, dim, ip, &P[dim * o]);
-          {
-            PetscReal dk = 0.0;
-            if (mn > 0.0) {
-              PetscReal p2 = 0.0;
-              for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
-              dk = (K[o] - 0.5 * p2 / mn) / ((1 << dim) * mn);
-            }
-            K[o] = dk;
-          }
+        }
+        /* d_i / (2^dim m_i), over the row */
+        for (x = x0; x < x1; x++) {
+          const PetscInt  o  = orow + x;
+          const PetscReal mn = mcn[o], mv = mn > 0.0 ? mn : 1.0; /* (a divisor for every node: the row's loop without a branch) */
+          PetscReal       p2 = 0.0;
+          for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
+          const PetscReal dk = (K[o] - 0.5 * p2 / mv) / ((1 << dim) * mv);
+          K[o]               = mn > 0.0 ? dk : 0.0;
         }
       }
     for (q = 0; q < 3; q++) S->lost_local.p[q] = lost[q];
