@@ -400,19 +400,9 @@ def cells_after(scene, comm, steps):
     return out, S.step_count
 
 
-@pytest.mark.parametrize("dim", [2, 3])
-def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim):
-    """Each node's sums over its cells (their mass and force, the predictor's
-    force change, the initial momentum) are taken by the node's owner, over
-    all of its cells in the order one rank takes them (cells.h,
-    PSCellsXIdx), and the remap's nodal fluxes likewise, so a scene in cells
-    runs bitwise the same on 1 and 2 ranks.  Here: gases, an ideal-gas charge
-    and an aluminium disk with strength (2D) crossing the ranks' boundary in
-    moving air, every cell and node equal after 40 (2D) or 20 (3D) steps.
-    Before, the ranks' partial sums were added at their boundary: the 3D
-    charge's state drifted by round-off from the first step, and by 3% of a
-    field's largest value at step 10."""
-    from petsc4py import PETSc
+def gases_and_a_disk(dim):
+    """Gases, an ideal-gas charge and (2D) an aluminium disk with strength
+    crossing the ranks' boundary in moving air, between walls."""
     h = 1e-3
     n = [40, 24] if dim == 2 else [14, 12, 10]
     L = [k * h for k in n]
@@ -430,6 +420,23 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim):
     faces = ["x-", "x+", "y-", "y+", "z-", "z+"][:2 * dim]
     scene = Scene(dim, Grid([0] * dim, L, n, {f: "symmetry" for f in faces}), mats, bodies,
                   Run(t_end=1.0, output_interval=0.0)).validate()
+    return scene
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim):
+    """Each node's sums over its cells (their mass and force, the predictor's
+    force change, the initial momentum) are taken by the node's owner, over
+    all of its cells in the order one rank takes them (cells.h,
+    PSCellsXIdx), and the remap's nodal fluxes likewise, so a scene in cells
+    runs bitwise the same on 1 and 2 ranks.  Here: gases, an ideal-gas charge
+    and an aluminium disk with strength (2D) crossing the ranks' boundary in
+    moving air, every cell and node equal after 40 (2D) or 20 (3D) steps.
+    Before, the ranks' partial sums were added at their boundary: the 3D
+    charge's state drifted by round-off from the first step, and by 3% of a
+    field's largest value at step 10."""
+    from petsc4py import PETSc
+    scene = gases_and_a_disk(dim)
     steps = 40 if dim == 2 else 20
     (u1, n1), k1 = cells_after(scene, PETSc.COMM_SELF, steps)      # each rank runs the scene alone
     (u2, n2), k2 = cells_after(scene, PETSc.COMM_WORLD, steps)
@@ -440,6 +447,34 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim):
     assert np.abs(u1 - u0).max() > 0.0
     diff = int((u1 != u2).sum() + (n1 != n2).sum())
     assert diff == 0, f"{diff} values of the cells and their nodes differ between 1 and 2 ranks"
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_cell_lanes_are_bitwise_the_scalar_loops(dim):
+    """The cells' phases take a row of pure ideal-gas cells in SIMD lanes (the
+    predictor's and the Lagrangian phase's PredictGasLanes and
+    LagrangeGasLanes, the remap's DualFluxLanes and DualFluxNodes) with the
+    scalar loops' arithmetic in their order; -run_lanes 1 sends every cell
+    through the scalar loops.  The scene of the ranks' test (gases, a charge
+    expanding in moving air, a disk with strength, so every path: pure gas,
+    mixed, strength, empty ranks of lanes) ends bitwise the same both ways
+    on two ranks, every cell and node."""
+    from petsc4py import PETSc
+    scene = gases_and_a_disk(dim)
+    steps = 40 if dim == 2 else 20
+    out = []
+    for lanes in (4, 1):
+        PETSc.Options().setValue("run_lanes", lanes)
+        try:
+            out.append(cells_after(scene, PETSc.COMM_WORLD, steps))
+        finally:
+            PETSc.Options().delValue("run_lanes")
+    ((u4, n4), k4), ((u1, n1), k1) = out
+    assert k4 == k1 == steps and not np.isnan(u4).any()
+    (u0, _), _ = cells_after(scene, PETSc.COMM_WORLD, 0)
+    assert np.abs(u4 - u0).max() > 0.0
+    diff = int((u4 != u1).sum() + (n4 != n1).sum())
+    assert diff == 0, f"{diff} values of the cells and their nodes differ between the lanes and the scalar loops"
 
 
 @pytest.mark.parametrize("change,path,words", [

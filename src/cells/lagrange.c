@@ -39,6 +39,13 @@
   v^{n+1}) a sharp gas charge lost as much energy in its first step as its
   gas gained kinetic energy (2D, 50 MPa in air: -0.7% in the first step,
   -2.6% at 1 us; 3D -2.9%, -9%).
+
+  Lanes: the predictor and the Lagrangian phase take each row's cells of one
+  ideal gas (no markers, no void, no deviator) in SIMD lanes first
+  (PredictGasLanes, LagrangeGasLanes: the same arithmetic in the same order,
+  without a branch), then the row's loop takes their values and does the
+  rest (the corners' sums in their order; every other cell whole).
+  -run_lanes 1 skips the lanes, for checks (bitwise the same).
 */
 #include "cells.h"
 #include "closure.h"
@@ -306,6 +313,97 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
   C->sat[6] = rho;
 }
 
+/* the cell materials whose cells the Lagrangian phases' lanes take
+   (PredictGasLanes, LagrangeGasLanes), gasf[m], and their gamma: an ideal
+   gas (the predictor's own update for it) without a deviator */
+static void GasLanesMaterials(const PSSolver *S, PetscBool strength, PetscInt gasf[], PetscReal gam[])
+{
+  const PSCells *C = S->cells;
+  PetscInt       m;
+  for (m = 0; m < C->nmat; m++) {
+    const PSMaterial *M = &S->mat[C->mat[m]];
+    gasf[m]             = M->eos_fn == PSEOSIdealGas && M->spall >= 0.0 && M->gamma > 0.0 && !(strength && M->G > 0.0);
+    gam[m]              = M->gamma;
+  }
+}
+
+/* The predictor's half-step values of the cells [0, nr) of a row (cell i0 + l
+   in lane l; ghosted index ci0 + i0 + l, lower corner node oc0 + i0 + l, EOS
+   slot index n0 + l) that hold one material with mass, an ideal gas
+   (gasf[m], gam[m] its gamma) without markers or void (PSCellsShareVolume's
+   one-material case): the predictor's arithmetic for such a cell, in its
+   order, without a branch (every test a choice between values computed
+   before it, a divisor 1 where its value is not used), so the row's loop
+   takes it in SIMD lanes.  Into the planes of w reals at W: the flag (1: the
+   values are the predictor's, 0: the predictor's own loop takes the cell),
+   q^h, the force's change of pressure -V_m (p_f^h + q^h - p_f^n - q^n), p_k^h,
+   the mass M_c and the sound speed c_max (the hourglass viscosity) */
+enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_M, PS_PL_V, PS_PL_E, PS_PL_EC0, PS_PL_EC1, PS_PL_EC2, PS_PL_G, PS_PL_GAS, PS_PL_N };
+static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *W)
+{
+  const PSCells   *C  = S->cells;
+  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
+  const PetscReal *U = C->u, *EC = C->ec, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
+  const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, nco = 1 << dim; /* (W: PS_PL_N planes) */
+  const short     *sole = C->sole;
+  const PSCorners *K    = &C->K;
+  PetscInt         l, a;
+
+  /* each cell's material's values into planes (their places depend on the
+     material: a gather, apart from the lanes); a cell of several materials
+     or none takes zeros (its EOS slots need not exist: none for none) */
+  for (l = 0; l < nr; l++) {
+    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
+    const PetscReal *blk = &U[ms * ci + mst * ss], zero[3] = {0.0, 0.0, 0.0}, *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : zero;
+    W[PS_PL_M * w + l]   = blk[PS_CM];
+    W[PS_PL_V * w + l]   = blk[PS_CV];
+    W[PS_PL_E * w + l]   = blk[PS_CE];
+    W[PS_PL_EC0 * w + l] = ec[0];
+    W[PS_PL_EC1 * w + l] = ec[1];
+    W[PS_PL_EC2 * w + l] = ec[2];
+    W[PS_PL_G * w + l]   = gam[ss];
+    W[PS_PL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
+  }
+#pragma GCC ivdep
+  for (l = 0; l < nr; l++) {
+    const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
+    const PetscReal M = W[PS_PL_M * w + l], V = W[PS_PL_V * w + l], E = W[PS_PL_E * w + l], ec0 = W[PS_PL_EC0 * w + l], ec1 = W[PS_PL_EC1 * w + l], ec2 = W[PS_PL_EC2 * w + l], Q = XQ[ci];
+    /* CellMix's one material */
+    const PetscReal Mc = PetscMax(M, 0.0), Vm = PetscMax(V, 0.0), c1 = PetscMax(0.0, ec1), cmax = M > 0.0 && V >= PS_TRACE * Vm ? c1 : 0.0;
+    /* the diagonal of CellGradientDim's L, in its order */
+    PetscReal L0 = 0.0, L1 = 0.0, L2 = 0.0, trD;
+#pragma GCC unroll 8
+    for (a = 0; a < nco; a++) {
+      const PetscReal *v = &vh[dim * (oc + K->off[a])];
+      L0 += v[0] * K->gN[a][0];
+      L1 += v[1] * K->gN[a][1];
+      if (dim == 3) L2 += v[2] * K->gN[a][2];
+    }
+    trD = L0 + L1 + L2;
+    /* PSCellsShareVolume's one-material case (PSCellsVoidShare, PSCellsMaterialShare) */
+    const PetscReal dVh = 0.5 * Vc * dt * trD, VM = XAM[ci] * Vc, chiM = XCM[ci], chi = ec2;
+    const PetscReal V0 = PetscMax(Vc - V - VM, 0.0), take = PetscMin(-dVh, V0), V0p = V0 + dVh, V0n = V0 - take, rn = dVh + take;
+    const PetscBool neg = dVh < 0.0, pv = V0 > PS_VOID_TRACE * Vc;
+    const PetscReal rest = neg ? rn : (pv ? 0.0 : dVh), V0e = neg ? V0n : (pv ? V0p : V0);
+    const PetscReal dchi = chi > 0.0 ? chi + chiM : 1.0, sh = PetscMax(rest * chi / dchi, -0.5 * V), dVk = chi > 0.0 ? sh : 0.0;
+    /* the ideal gas's p_k^h (the predictor's two divisions) */
+    const PetscReal V1 = PetscMax(V + dVk, 0.5 * V), V1d = V1 > 0.0 ? V1 : 1.0, dV = V1 - V, iV1 = 1.0 / V1d, g1 = W[PS_PL_G * w + l] - 1.0;
+    const PetscReal den = 1.0 + 0.5 * g1 * dV * iV1, dd = den != 0.0 ? den : 1.0, pk0 = g1 * iV1 * (E - dV * (0.5 * ec0 + Q)) / dd, pk = PetscMax(pk0, 0.0);
+    const PetscReal Vh = 0.0 + V1, sc = 0.0 + ec2, sp = 0.0 + ec2 * pk;
+    /* PSViscosity at Mc / Vh; p_f^h and p_f^n (PSCellsForcePressure) */
+    const PetscReal Vhd = Vh != 0.0 ? Vh : 1.0, rho = Mc / Vhd, qv = rho * hm * (cq * hm * trD * trD + cl * cmax * PetscAbsReal(trD)), qh = trD < 0.0 ? qv : 0.0;
+    const PetscReal scd = sc > 0.0 ? sc : 1.0, pf = sp / scd, pfh = sc > 0.0 ? pf : 0.0, fn = (0.0 + ec2 * ec0) / scd, fp = sc > 0.0 ? fn : 0.0;
+    const PetscReal dp = pfh + qh - fp - Q;
+    const PetscBool ok = W[PS_PL_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
+    W[PS_PL_FLAG * w + l] = ok ? 1.0 : 0.0;
+    W[PS_PL_QH * w + l]   = qh;
+    W[PS_PL_DSIG * w + l] = 0.0 - Vm * dp;
+    W[PS_PL_PK * w + l]   = pk;
+    W[PS_PL_MC * w + l]   = Mc;
+    W[PS_PL_CMAX * w + l] = cmax;
+  }
+}
+
 /* the predictor-corrector: dim and strength constants where it is called
    (PSCellsPredict picks them as PSCellsToGrid), so the per-cell loops
    unroll, and without strength the force's change is a pressure's */
@@ -315,8 +413,10 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
   const PetscInt  dof = PSGridDof(S), nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
-  PetscReal      *g = S->g, hm = 0.0;
-  PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0, orow;
+  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
+  const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
+  PetscReal      *g = S->g, hm = 0.0, gam[PS_MAX_CELLMAT], *W = C->sW;
+  PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0, orow, gasf[PS_MAX_CELLMAT];
 
   PetscFunctionBeginUser;
   if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
@@ -331,81 +431,95 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
       C->vh[dim * o + d] = 0.5 * (C->vo[dim * o + d] + vs);
     }
   PetscCall(PetscArrayzero(C->df, C->nnl * dim));
+  GasLanesMaterials(S, strength, gasf, gam); /* (the rows' lanes, PredictGasLanes) */
   /* every cell around the owned nodes (PSCellsXIdx), its force change to
      its owned corners */
   for (k = C->xs[2]; k < C->ce[2]; k++)
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
+      if (lanes) PredictGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], dt, hm, gasf, gam, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
-        const PetscInt   ci = ci0 + i;
+        const PetscInt   ci = ci0 + i, l = i - C->xs[0];
         const PetscReal *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n);
         PetscReal       *hmn = PSCellsHM(C, n, hmat), *qh = &C->hs[hsd * n], *gh = qh + 1;
         const PetscInt   oc = oc0 + i, own = orow & (i >= xa && i < xb ? 0xff : PSCellsOwnedAxis(ix, 0, i)); /* (its owned corners) */
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
-        PSCellsPresent(C, ci, &m0, &m1);
-        CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
-        if (Mc <= 0.0) continue;
-        /* the half-step state at v^{n+1/2*}: half the volume change, shared */
-        CellGradientDim(&C->K, dim, oc, C->vh, L, &vmax);
-        trD = L[0][0] + L[1][1] + L[2][2];
-        dVh = 0.5 * C->Vc * dt * trD;
-        PetscCall(PSCellsShareVolume(S, ci, ec, m0, m1, dVh, dVk, NULL, NULL));
-        for (m = m0; m < m1; m++) {
-          const PSMaterial *M   = &S->mat[C->mat[m]];
-          const PetscReal  *blk = &u[m * C->mst];
-          PetscReal        *pk = &hmn[m * hmat], *sk = pk + 1, A, B, c2, e1, V1, J;
-          /* (only the materials with mass read it: the Lagrangian phase; a
-             material without strength has p alone, without GCC's call of memset) */
-          if (hmat == 1) pk[0] = 0.0;
-          else
-            for (e = 0; e < hmat; e++) pk[e] = 0.0;
-          if (blk[PS_CM] <= 0.0) continue;
-          V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
-          if (M->eos_fn == PSEOSIdealGas && M->spall >= 0.0) {
-            /* the ideal gas (A = 0, B = (gamma - 1) M / V1): PSPressureEnergy's
-               update multiplied through by M_k, E1 = (E - dV (p0/2 + q)) /
-               (1 + (gamma - 1) dV / (2 V1)), p = (gamma - 1) E1 / V1: two
-               divisions instead of seven (the same values to round-off) */
-            const PetscReal dV = V1 - blk[PS_CV], iV1 = 1.0 / V1;
-            pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + XQ[ci])) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
-          } else {
-            J = M->rho0 * V1 / blk[PS_CM];
-            PetscCall(PSCellsEOS(M, J, ec[PS_EC * m], (V1 - blk[PS_CV]) / blk[PS_CV], &A, &B, &c2));
-            PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, XQ[ci], &e1, &pk[0]);
-          }
-          if (M->gamma > 0.0) pk[0] = PetscMax(pk[0], 0.0); /* an ideal gas holds no tension */
-          Vh += V1;
-          sc += ec[PS_EC * m + 2];
-          sp += ec[PS_EC * m + 2] * pk[0];
-          /* the deviator half a step on (a copy: the Lagrangian phase takes the whole step) */
-          if (strength && M->G > 0.0) {
-            PetscReal sq[8], w;
-            for (e = 0; e < C->nq; e++) sq[e] = blk[PS_CQ + e];
-            PetscCall(Deviator(M, dim, L, 0.5 * dt, blk[PS_CM] / V1, sq, blk[PS_CM], &w));
-            for (e = 0; e < ns; e++) {
-              sk[e] = sq[e] / blk[PS_CM];
-              sq[e] = blk[PS_CQ + e] / blk[PS_CM];
+        if (lanes && W[PS_PL_FLAG * nw + l] != 0.0) {
+          /* a cell of the lanes: their values, and what the loop below
+             leaves (its material's p_k^h, q^h, the force's change) */
+          PetscReal *pk = &hmn[C->sole[ci] * hmat];
+          for (e = 1; e < hmat; e++) pk[e] = 0.0;
+          pk[0] = W[PS_PL_PK * nw + l];
+          *qh   = W[PS_PL_QH * nw + l];
+          for (d = 0; d < 3; d++) dsig[d][d] = W[PS_PL_DSIG * nw + l];
+          Mc   = W[PS_PL_MC * nw + l];
+          cmax = W[PS_PL_CMAX * nw + l];
+        } else {
+          PSCellsPresent(C, ci, &m0, &m1);
+          CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
+          if (Mc <= 0.0) continue;
+          /* the half-step state at v^{n+1/2*}: half the volume change, shared */
+          CellGradientDim(&C->K, dim, oc, C->vh, L, &vmax);
+          trD = L[0][0] + L[1][1] + L[2][2];
+          dVh = 0.5 * C->Vc * dt * trD;
+          PetscCall(PSCellsShareVolume(S, ci, ec, m0, m1, dVh, dVk, NULL, NULL));
+          for (m = m0; m < m1; m++) {
+            const PSMaterial *M   = &S->mat[C->mat[m]];
+            const PetscReal  *blk = &u[m * C->mst];
+            PetscReal        *pk = &hmn[m * hmat], *sk = pk + 1, A, B, c2, e1, V1, J;
+            /* (only the materials with mass read it: the Lagrangian phase; a
+               material without strength has p alone, without GCC's call of memset) */
+            if (hmat == 1) pk[0] = 0.0;
+            else
+              for (e = 0; e < hmat; e++) pk[e] = 0.0;
+            if (blk[PS_CM] <= 0.0) continue;
+            V1 = PetscMax(blk[PS_CV] + dVk[m], 0.5 * blk[PS_CV]);
+            if (M->eos_fn == PSEOSIdealGas && M->spall >= 0.0) {
+              /* the ideal gas (A = 0, B = (gamma - 1) M / V1): PSPressureEnergy's
+                 update multiplied through by M_k, E1 = (E - dV (p0/2 + q)) /
+                 (1 + (gamma - 1) dV / (2 V1)), p = (gamma - 1) E1 / V1: two
+                 divisions instead of seven (the same values to round-off) */
+              const PetscReal dV = V1 - blk[PS_CV], iV1 = 1.0 / V1;
+              pk[0] = (M->gamma - 1.0) * iV1 * (blk[PS_CE] - dV * (0.5 * ec[PS_EC * m] + XQ[ci])) / (1.0 + 0.5 * (M->gamma - 1.0) * dV * iV1);
+            } else {
+              J = M->rho0 * V1 / blk[PS_CM];
+              PetscCall(PSCellsEOS(M, J, ec[PS_EC * m], (V1 - blk[PS_CV]) / blk[PS_CV], &A, &B, &c2));
+              PSPressureEnergy(M, PETSC_FALSE, blk[PS_CE] / blk[PS_CM], 0.0, (V1 - blk[PS_CV]) / blk[PS_CM], ec[PS_EC * m], A, B, XQ[ci], &e1, &pk[0]);
             }
-            /* the force's deviatoric part changes by V_k (s_k^h - s_k^n) */
-            {
-              PetscReal Sh[3][3], Sn[3][3];
-              ForceStress(dim, sk, 0.0, Sh);
-              ForceStress(dim, sq, 0.0, Sn);
-              for (d = 0; d < 3; d++)
-                for (e = 0; e < 3; e++) dsig[d][e] += blk[PS_CV] * (Sh[d][e] - Sn[d][e]);
+            if (M->gamma > 0.0) pk[0] = PetscMax(pk[0], 0.0); /* an ideal gas holds no tension */
+            Vh += V1;
+            sc += ec[PS_EC * m + 2];
+            sp += ec[PS_EC * m + 2] * pk[0];
+            /* the deviator half a step on (a copy: the Lagrangian phase takes the whole step) */
+            if (strength && M->G > 0.0) {
+              PetscReal sq[8], w;
+              for (e = 0; e < C->nq; e++) sq[e] = blk[PS_CQ + e];
+              PetscCall(Deviator(M, dim, L, 0.5 * dt, blk[PS_CM] / V1, sq, blk[PS_CM], &w));
+              for (e = 0; e < ns; e++) {
+                sk[e] = sq[e] / blk[PS_CM];
+                sq[e] = blk[PS_CQ + e] / blk[PS_CM];
+              }
+              /* the force's deviatoric part changes by V_k (s_k^h - s_k^n) */
+              {
+                PetscReal Sh[3][3], Sn[3][3];
+                ForceStress(dim, sk, 0.0, Sh);
+                ForceStress(dim, sq, 0.0, Sn);
+                for (d = 0; d < 3; d++)
+                  for (e = 0; e < 3; e++) dsig[d][e] += blk[PS_CV] * (Sh[d][e] - Sn[d][e]);
+              }
             }
           }
-        }
-        /* q^h at the half step's density and rate; the force's pressure part
-           changes by -(p_f^h + q^h - p_f^n - q^n) V_m I, p_f the compliance-
-           weighted mean (PSCellsForcePressure) */
-        *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
-        {
-          const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(ec, m0, m1) - XQ[ci];
-          for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
+          /* q^h at the half step's density and rate; the force's pressure part
+             changes by -(p_f^h + q^h - p_f^n - q^n) V_m I, p_f the compliance-
+             weighted mean (PSCellsForcePressure) */
+          *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
+          {
+            const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(ec, m0, m1) - XQ[ci];
+            for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
+          }
         }
         /* hourglass rates at v^{n+1/2*} (kept for the Lagrangian phase's heat)
            and at t^n (the cells' nodal velocity, as PSCellsToGrid) */
@@ -477,6 +591,84 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* The Lagrangian phase's values of the cells [0, nr) of a row (cell i0 + l
+   in lane l, as PredictGasLanes) that hold one material with mass, an ideal
+   gas without a deviator (gasf[m]) and without markers or void: the phase's
+   arithmetic for such a cell, in its order, without a branch, so the row's
+   loop takes it in SIMD lanes.  Into the planes of w reals at W: the flag (1:
+   these values are the phase's; 0: its own loop takes the cell, among them
+   one whose volume would not stay positive or whose energy would go
+   negative, which that loop reports or books), the cell's volume V_c + dV,
+   the material's new volume and energy, q, the time step's viscous term and
+   density, c_max and the largest corner speed */
+enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX, PS_LL_M, PS_LL_V, PS_LL_E, PS_LL_CHI, PS_LL_C, PS_LL_PK, PS_LL_GAS, PS_LL_N };
+static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, const PetscInt *gasf, PetscInt w, PetscReal *W)
+{
+  const PSCells   *C   = S->cells;
+  const PetscReal *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
+  const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm, *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
+  const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C), nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize; W: PS_LL_N planes) */
+  const short     *sole = C->sole;
+  const PSCorners *K    = &C->K;
+  PetscInt         l;
+
+  /* each cell's material's values into planes (their places depend on the
+     material: a gather, apart from the lanes); a cell of several materials
+     or none takes zeros (its EOS slots need not exist: none for none) */
+  for (l = 0; l < nr; l++) {
+    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
+    const PetscReal *blk = &U[ms * ci + mst * ss], zero[3] = {0.0, 0.0, 0.0}, *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : zero;
+    W[PS_LL_M * w + l]   = blk[PS_CM];
+    W[PS_LL_V * w + l]   = blk[PS_CV];
+    W[PS_LL_E * w + l]   = blk[PS_CE];
+    W[PS_LL_C * w + l]   = ec[1];
+    W[PS_LL_CHI * w + l] = ec[2];
+    W[PS_LL_PK * w + l]  = s >= 0 ? HM[hmat * (eco[n0 + l] + s)] : 0.0;
+    W[PS_LL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
+  }
+#pragma GCC ivdep
+  for (l = 0; l < nr; l++) {
+    const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;
+    const PetscReal  M = W[PS_LL_M * w + l], V = W[PS_LL_V * w + l], E = W[PS_LL_E * w + l], chi = W[PS_LL_CHI * w + l], pk = W[PS_LL_PK * w + l];
+    const PetscReal *hs = &HS[hsd * (n0 + l)], qh = hs[0], *gh = hs + 1;
+    PetscReal        L[3][3], vmax, hg[4][3], hgw = 0.0;
+    PetscInt         e, d;
+    /* CellGradientDim's L and corner speed; the cell's volume change */
+    CellGradientDim(K, dim, oc, vh, L, &vmax);
+    const PetscReal trD = L[0][0] + L[1][1] + L[2][2], dV = Vc * dt * trD;
+    /* CellMix's one material */
+    const PetscReal Mc = PetscMax(M, 0.0), Vm = PetscMax(V, 0.0), c1 = PetscMax(0.0, W[PS_LL_C * w + l]), cmax = M > 0.0 && V >= PS_TRACE * Vm ? c1 : 0.0;
+    /* PSCellsShareVolume's one-material case: dVr = 0, p* = 0 */
+    const PetscReal VM = XAM[ci] * Vc, chiM = XCM[ci];
+    const PetscReal V0 = PetscMax(Vc - V - VM, 0.0), take = PetscMin(-dV, V0), V0p = V0 + dV, V0n = V0 - take, rn = dV + take;
+    const PetscBool neg = dV < 0.0, pv = V0 > PS_VOID_TRACE * Vc;
+    const PetscReal rest = neg ? rn : (pv ? 0.0 : dV), V0e = neg ? V0n : (pv ? V0p : V0);
+    const PetscReal dchi = chi > 0.0 ? chi + chiM : 1.0, sh = PetscMax(rest * chi / dchi, -0.5 * V), dVk = chi > 0.0 ? sh : 0.0, dVr = 0.0, pr = 0.0;
+    /* q (PSViscosity) */
+    const PetscReal Vmd = Vm > 0.0 ? Vm : 1.0, rho = Mc / Vmd, qv = rho * hm * (cq * hm * trD * trD + cl * cmax * PetscAbsReal(trD)), q = trD < 0.0 ? qv : 0.0;
+    /* hourglass heating, kappa sum_m g_m^h . g_m dt (HourglassKappa) */
+    const PetscReal kap = K->khg * Mc * cmax;
+    HourglassRatesDim(K, dim, oc, vh, hg);
+    for (e = 0; e < nh; e++)
+      for (d = 0; d < dim; d++) hgw += kap * gh[dim * e + d] * hg[e][d] * dt;
+    /* the material's volume and energy (no deviator: wh = 0) */
+    const PetscReal Mcd = Mc > 0.0 ? Mc : 1.0, V1 = V + dVk, wh = 0.0;
+    const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
+    /* the time step's viscous term (Fastest's) */
+    const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
+    const PetscBool ok = W[PS_LL_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
+    W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
+    W[PS_LL_XV * w + l]   = Vc + dV;
+    W[PS_LL_V1 * w + l]   = V1;
+    W[PS_LL_E1 * w + l]   = E1;
+    W[PS_LL_Q * w + l]    = q;
+    W[PS_LL_SQ * w + l]   = sq;
+    W[PS_LL_RHO * w + l]  = rho;
+    W[PS_LL_CMAX * w + l] = cmax;
+    W[PS_LL_VMAX * w + l] = vmax;
+  }
+}
+
 /* the Lagrangian phase: dim a constant where it is called (PSCellsLagrange picks 2D or 3D), so
    the per-cell loops unroll */
 static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
@@ -485,8 +677,10 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
   PetscReal      *XQ = PSCellsX(C, 0, PS_CX_Q), *XV = PSCellsX(C, 0, PS_CX_V); /* the per-cell planes of q and the cells' volumes (PSCellsX) */
   const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
-  PetscReal       hm = 0.0, smax = 0.0;
-  PetscInt        i, j, k, m, d, o;
+  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
+  const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
+  PetscReal       hm = 0.0, smax = 0.0, gam[PS_MAX_CELLMAT], *W = C->sW;
+  PetscInt        i, j, k, m, d, o, gasf[PS_MAX_CELLMAT];
 
   PetscFunctionBeginUser;
   if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
@@ -507,19 +701,31 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         }
         PSNodeBCDim(S, dim, ip, &C->vh[dim * o]); /* walls hold the faces on them */
       }
+  GasLanesMaterials(S, C->nq > 0 ? PETSC_TRUE : PETSC_FALSE, gasf, gam); /* (the rows' lanes, LagrangeGasLanes; a deviator where C->nq and G > 0) */
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++) {
       PetscInt       ci0, oc0;
       const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, NULL, NULL);
+      if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, gasf, nw, W);
       for (i = C->cs[0]; i < C->ce[0]; i++) {
-        const PetscInt   ci = ci0 + i, n = x0 + i;
+        const PetscInt   ci = ci0 + i, n = x0 + i, l = i - C->cs[0];
         PetscReal       *u  = &C->u[C->ms * ci];
         const PetscReal *ec = PSCellsEC(C, n); /* this step's EOS values, from the cells' P2G */
         const PetscReal *hmn = PSCellsHM(C, n, hmat), *hs = &C->hs[hsd * n], qh = hs[0]; /* the predictor's half-step values; q^h */
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = oc0 + i;
         PetscInt         m0, m1;
+        if (lanes && W[PS_LL_FLAG * nw + l] != 0.0) {
+          /* a cell of the lanes: what the loop below leaves, their values */
+          PetscReal *blk = &u[C->sole[ci] * C->mst];
+          XV[ci]     = W[PS_LL_XV * nw + l];
+          XQ[ci]     = W[PS_LL_Q * nw + l];
+          blk[PS_CV] = W[PS_LL_V1 * nw + l];
+          blk[PS_CE] = W[PS_LL_E1 * nw + l];
+          Fastest(S, i, j, k, W[PS_LL_CMAX * nw + l], W[PS_LL_VMAX * nw + l], W[PS_LL_SQ * nw + l], W[PS_LL_RHO * nw + l], &smax);
+          continue;
+        }
         CellGradientDim(&C->K, dim, oc, C->vh, L, &vmax);
         /* the cell's volume change V_c dt tr L (the net volume the faces sweep,
            each moving with the mean velocity of its corners: the remap moves

@@ -735,7 +735,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
     xa = ix->os[0] - PS_PAD;
     xb = ix->os[0] + ix->om[0] - PS_PAD - 1;
   }
-  if (!ok) xb = xa;
+  if (!ok || S->run.lanes == 1) xb = xa; /* (-run_lanes 1: DualFlux alone, for checks) */
   /* the fast range's dual fluxes, in SIMD lanes (a run's cells, k) */
   ka = PetscMin(PetscMax(xa - j0[0], 0), n);
   kb = PetscMin(PetscMax(xb - j0[0], ka), n);
