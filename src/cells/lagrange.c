@@ -424,12 +424,32 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
   /* v^n at every local node (the grid's old velocity: musl keeps v_new - v_old;
      apic the cells' own P^C/m^C) and v^{n+1/2*} = (v^n + v*)/2 into vh */
-  for (o = 0; o < C->nnl; o++)
-    for (d = 0; d < dim; d++) {
-      const PetscReal vs = g[dof * o + 1 + d];
-      C->vo[dim * o + d] = musl ? vs - g[dof * o + dof - dim + d] : (C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : vs);
-      C->vh[dim * o + d] = 0.5 * (C->vo[dim * o + d] + vs);
+  {
+    const PetscReal *mcn = C->mcn, *P = C->P; /* (locals, a divisor for every node: the loops in SIMD lanes) */
+    PetscReal       *vo = C->vo, *vh = C->vh;
+    const PetscInt   nnl = C->nnl;
+    if (musl) {
+#pragma GCC ivdep
+      for (o = 0; o < nnl; o++)
+#pragma GCC unroll 3
+        for (d = 0; d < dim; d++) {
+          const PetscReal vs = g[dof * o + 1 + d];
+          vo[dim * o + d]    = vs - g[dof * o + dof - dim + d];
+          vh[dim * o + d]    = 0.5 * (vo[dim * o + d] + vs);
+        }
+    } else {
+#pragma GCC ivdep
+      for (o = 0; o < nnl; o++) {
+        const PetscReal mn = mcn[o], md = mn > 0.0 ? mn : 1.0;
+#pragma GCC unroll 3
+        for (d = 0; d < dim; d++) {
+          const PetscReal vs = g[dof * o + 1 + d], r = P[dim * o + d] / md;
+          vo[dim * o + d]    = mn > 0.0 ? r : vs;
+          vh[dim * o + d]    = 0.5 * (vo[dim * o + d] + vs);
+        }
+      }
     }
+  }
   PetscCall(PetscArrayzero(C->df, C->nnl * dim));
   GasLanesMaterials(S, strength, gasf, gam); /* (the rows' lanes, PredictGasLanes) */
   /* every cell around the owned nodes (PSCellsXIdx), its force change to
@@ -691,16 +711,20 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
      (v^n + v^{n+1})/2, on which the half-step force does its work
      (PSCellsPredict) */
   for (k = ix->gs[2]; k < ix->gs[2] + ix->gm[2]; k++)
-    for (j = ix->gs[1]; j < ix->gs[1] + ix->gm[1]; j++)
-      for (i = ix->gs[0]; i < ix->gs[0] + ix->gm[0]; i++) {
-        const PetscInt ip[3] = {i - PS_PAD, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
-        o = Lidx(ix, i, j, k);
+    for (j = ix->gs[1]; j < ix->gs[1] + ix->gm[1]; j++) {
+      const PetscInt   orow = Lidx(ix, 0, j, k), x0 = ix->gs[0], x1 = ix->gs[0] + ix->gm[0]; /* (node (i, j, k) is orow + i) */
+      const PetscReal *vo = C->vo, *mcn = C->mcn; /* (locals: the row's loop in SIMD lanes) */
+      PetscReal       *vh = C->vh, *P = C->P;
+#pragma GCC ivdep
+      for (i = x0; i < x1; i++)
+#pragma GCC unroll 3
         for (d = 0; d < dim; d++) {
-          C->vh[dim * o + d] = 0.5 * (C->vo[dim * o + d] + v[dof * o + d]);
-          C->P[dim * o + d]  = C->mcn[o] * v[dof * o + d];
+          o                  = orow + i;
+          vh[dim * o + d]    = 0.5 * (vo[dim * o + d] + v[dof * o + d]);
+          P[dim * o + d]     = mcn[o] * v[dof * o + d];
         }
-        PSNodeBCDim(S, dim, ip, &C->vh[dim * o]); /* walls hold the faces on them */
-      }
+      PSNodeBCRow(S, dim, orow, x0, x1, j, k, vh); /* walls hold the faces on them */
+    }
   GasLanesMaterials(S, C->nq > 0 ? PETSC_TRUE : PETSC_FALSE, gasf, gam); /* (the rows' lanes, LagrangeGasLanes; a deviator where C->nq and G > 0) */
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++) {

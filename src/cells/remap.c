@@ -940,7 +940,6 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
       for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++) {
         const PetscInt  orow = Lidx(ix, 0, i[1], i[2]); /* (node (x, i1, i2) is orow + x) */
-        const PetscBool face = dim == 3 ? !(i[1] - PS_PAD > 0 && i[1] - PS_PAD < S->nc[1] && i[2] - PS_PAD > 0 && i[2] - PS_PAD < S->nc[2]) : !(i[1] - PS_PAD > 0 && i[1] - PS_PAD < S->nc[1]);
         PetscInt        x, xa = x0, xb = x1;
         /* a row across d (d = y, z): its neighbours along d are in the local
            array or not for the whole row; along d = x only the row's first and
@@ -959,16 +958,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         /* what was cut, in the order of the nodes (the same sums) */
         for (x = x0; x < x1; x++)
           for (q = 0; q < dim; q++) lost[q] += dP[dim * (x - x0) + q];
-        /* the boundary conditions: every node of a row on a face of the
-           domain across x (or in the padding beyond it), else the nodes at or
-           beyond x's faces (PSNodeBCDim leaves the others) */
-        for (x = x0; x < x1; x++) {
-          if (!face && x - PS_PAD > 0 && x - PS_PAD < S->nc[0]) x = PetscMax(x, S->nc[0] + PS_PAD); /* (to x's upper face) */
-          if (x < x1) {
-            const PetscInt ip[3] = {x - PS_PAD, i[1] - PS_PAD, dim == 3 ? i[2] - PS_PAD : 0};
-            PSNodeBCDim(S, dim, ip, &P[dim * (orow + x)]);
-          }
-        }
+        PSNodeBCRow(S, dim, orow, x0, x1, i[1], i[2], P); /* the boundary conditions */
         /* d_i / (2^dim m_i), over the row */
         for (x = x0; x < x1; x++) {
           const PetscInt  o  = orow + x;
