@@ -40,11 +40,13 @@
   gas gained kinetic energy (2D, 50 MPa in air: -0.7% in the first step,
   -2.6% at 1 us; 3D -2.9%, -9%).
 
-  Lanes: the predictor and the Lagrangian phase take each row's cells of one
-  ideal gas (no markers, no void, no deviator) in SIMD lanes first
-  (PredictGasLanes, LagrangeGasLanes: the same arithmetic in the same order,
+  Lanes: the cells' P2G (in a scene without strength), the predictor and
+  the Lagrangian phase take each row's cells of one ideal gas (no markers,
+  no void, no deviator) in SIMD lanes first (ToGridGasLanes,
+  PredictGasLanes, LagrangeGasLanes: the same arithmetic in the same order,
   without a branch), then the row's loop takes their values and does the
-  rest (the corners' sums in their order; every other cell whole).
+  rest (P2G's corners to the nodes in lanes too, ToGridGasNodes, in the
+  loop's order; the predictor's corners' sums; every other cell whole).
   -run_lanes 1 skips the lanes, for checks (bitwise the same).
 */
 #include "cells.h"
@@ -110,6 +112,118 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
     if (u[m * C->mst + PS_CM] > 0.0 && u[m * C->mst + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
+/* the cell materials whose cells the Lagrangian phases' lanes take
+   (ToGridGasLanes, PredictGasLanes, LagrangeGasLanes), gasf[m], and their gamma: an ideal
+   gas (the predictor's own update for it) without a deviator */
+static void GasLanesMaterials(const PSSolver *S, PetscBool strength, PetscInt gasf[], PetscReal gam[])
+{
+  const PSCells *C = S->cells;
+  PetscInt       m;
+  for (m = 0; m < C->nmat; m++) {
+    const PSMaterial *M = &S->mat[C->mat[m]];
+    gasf[m]             = M->eos_fn == PSEOSIdealGas && M->spall >= 0.0 && M->gamma > 0.0 && !(strength && M->G > 0.0);
+    gam[m]              = M->gamma;
+  }
+}
+
+/* The cells' P2G of the cells [0, nr) of a row (cell i0 + l in lane l, as
+   PredictGasLanes) that hold one material with mass, an ideal gas (gasf[m]),
+   in a scene without strength: PSCellsToGridDim's arithmetic for such a
+   cell, in its order, without a branch, so the row's loop takes it in SIMD
+   lanes; the hourglass rates into the cell's slot of C->hs as there.  Into
+   the planes of w reals at W: the flag (1: these values are P2G's; 0: its own
+   loop takes the cell), the mass each corner takes, M_c / 2^dim, and corner
+   a's force component d (times fs) in plane PS_GL_F + a dim + d */
+enum { PS_GL_FLAG, PS_GL_M, PS_GL_V, PS_GL_EC0, PS_GL_EC1, PS_GL_EC2, PS_GL_GAS, PS_GL_MC, PS_GL_F };
+static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, const PetscInt *gasf, PetscInt w, PetscReal *W)
+{
+  const PSCells   *C  = S->cells;
+  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q);
+  const PetscReal *U = C->u, *EC = C->ec, *VL = C->sVL;
+  const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize; W: PS_GL_F + 2^dim dim planes) */
+  const short     *sole = C->sole;
+  const PSCorners *K    = &C->K;
+  PetscReal       *HS   = C->hs;
+  PetscInt         l;
+
+  /* each cell's material's values into planes (a gather, apart from the
+     lanes); a cell of several materials or none takes zeros */
+  for (l = 0; l < nr; l++) {
+    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
+    const PetscReal *blk = &U[ms * ci + mst * ss], *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : NULL; /* (ec only where s >= 0) */
+    W[PS_GL_M * w + l]   = blk[PS_CM];
+    W[PS_GL_V * w + l]   = blk[PS_CV];
+    W[PS_GL_EC0 * w + l] = ec ? ec[0] : 0.0;
+    W[PS_GL_EC1 * w + l] = ec ? ec[1] : 0.0;
+    W[PS_GL_EC2 * w + l] = ec ? ec[2] : 0.0;
+    W[PS_GL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
+  }
+#pragma GCC ivdep
+  for (l = 0; l < nr; l++) {
+    const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
+    const PetscReal M = W[PS_GL_M * w + l], V = W[PS_GL_V * w + l], ec0 = W[PS_GL_EC0 * w + l], ec2 = W[PS_GL_EC2 * w + l];
+    /* CellMix's one material; PSCellsForcePressure; sig = -(p_f + q) V_m I */
+    const PetscReal Mc = PetscMax(M, 0.0), Vm = PetscMax(V, 0.0), c1 = PetscMax(0.0, W[PS_GL_EC1 * w + l]), cmax = M > 0.0 && V >= PS_TRACE * Vm ? c1 : 0.0;
+    const PetscReal sc = 0.0 + ec2, scd = sc > 0.0 ? sc : 1.0, pn = (0.0 + ec2 * ec0) / scd, pf = sc > 0.0 ? pn : 0.0;
+    const PetscReal sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
+    PetscReal       hg[4][3], *gh = &HS[hsd * (n0 + l) + 1];
+    PetscInt        a, d, e;
+    HourglassRatesDim(K, dim, oc, VL, hg);
+    for (e = 0; e < nh; e++)
+      for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
+    W[PS_GL_MC * w + l] = Mc / nco;
+    for (a = 0; a < nco; a++)
+      for (d = 0; d < dim; d++) {
+        PetscReal fd = 0.0;
+        fd -= sg * K->gN[a][d];
+        for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
+        W[(PS_GL_F + a * dim + d) * w + l] = fs * fd;
+      }
+    W[PS_GL_FLAG * w + l] = W[PS_GL_GAS * w + l] != 0.0 && M > 0.0 ? 1.0 : 0.0;
+  }
+}
+
+/* ToGridGasLanes's corner masses and forces of the row's lane cells [l0, l1)
+   to the grid's nodes g (dof per node: the mass, the force at fo), in
+   PSCellsToGridDim's order: a node of the run takes the corner B (one along x
+   beyond A) of cell l - 1, then the corner A of cell l, each where own (the
+   row's owned corners) has it; the pairs of corners (A, B) in SIMD lanes */
+static inline void ToGridGasNodes(const PetscInt dim, const PSCorners *K, PetscInt o0, PetscInt own, PetscInt l0, PetscInt l1, PetscInt dof, PetscInt fo, PetscInt w, const PetscReal *W, PetscReal *g)
+{
+  const PetscInt nco = 1 << dim;
+  PetscInt       A, l, d;
+
+  for (A = 0; A < nco; A += 2) {
+    const PetscInt   B = A + 1, oA = o0 + K->off[A];
+    const PetscBool  fA = (own >> A) & 1, fB = (own >> B) & 1;
+    const PetscReal *Mq = &W[PS_GL_MC * w];
+    PetscReal       *gA = &g[dof * oA];
+    /* (node oA + l: cell l - 1's corner B (oA + l = o0 + (l - 1) + off[B]), then cell l's A) */
+    if (fA) {
+      gA[dof * l0] += Mq[l0];
+      for (d = 0; d < dim; d++) gA[dof * l0 + fo + d] += W[(PS_GL_F + A * dim + d) * w + l0];
+    }
+#pragma GCC ivdep
+    for (l = l0 + 1; l < l1; l++) {
+      PetscReal m = gA[dof * l];
+      if (fB) m = m + Mq[l - 1];
+      if (fA) m = m + Mq[l];
+      gA[dof * l] = m;
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) {
+        PetscReal f = gA[dof * l + fo + d];
+        if (fB) f = f + W[(PS_GL_F + B * dim + d) * w + l - 1];
+        if (fA) f = f + W[(PS_GL_F + A * dim + d) * w + l];
+        gA[dof * l + fo + d] = f;
+      }
+    }
+    if (fB) {
+      gA[dof * l1] += Mq[l1 - 1];
+      for (d = 0; d < dim; d++) gA[dof * l1 + fo + d] += W[(PS_GL_F + B * dim + d) * w + l1 - 1];
+    }
+  }
+}
+
 /* the cells' mass and force to the nodes: dim and strength constants where
    it is called (PSCellsToGrid picks 2D or 3D, and whether any cell material
    has strength, C->nq > 0), so the per-cell loops unroll, and without
@@ -120,8 +234,10 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
   const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C);
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
-  PetscReal      *g = S->g;
-  PetscInt        i, j, k, m, a, d, e, o, n = 0, orow;
+  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
+  const PetscBool lanes = !strength && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (without strength; -run_lanes 1: the scalar loop alone, for checks) */
+  PetscReal      *g = S->g, gam[PS_MAX_CELLMAT], *W = C->sW;
+  PetscInt        i, j, k, m, a, d, e, o, n = 0, orow, gasf[PS_MAX_CELLMAT];
 
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
@@ -133,12 +249,14 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
      corner) */
   for (o = 0; o < C->nnl; o++)
     for (d = 0; d < dim; d++) C->sVL[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
+  GasLanesMaterials(S, strength, gasf, gam); /* (the rows' lanes, ToGridGasLanes) */
   /* every cell around the owned nodes, to its owned corners (PSCellsXIdx:
      each node's sum in one order on any number of ranks) */
   for (k = C->xs[2]; k < C->ce[2]; k++)
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
+      if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, gasf, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = ci0 + i;
         const PetscReal *u  = &C->u[C->ms * ci];
@@ -146,6 +264,17 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
         const PetscInt   oc = oc0 + i, own = orow & (i >= xa && i < xb ? 0xff : PSCellsOwnedAxis(ix, 0, i)); /* (its owned corners) */
         PetscReal        sig[3][3] = {{0}}, Mc, Vm, cmax, hg[4][3], kap;
         PetscInt         m0, m1;
+        if (lanes && i >= xa && i < xb && W[PS_GL_FLAG * nw + i - C->xs[0]] != 0.0) {
+          /* a run of the lanes' cells whose corners are the row's owned ones:
+             their corners to the nodes in lanes, in this loop's order */
+          const PetscInt l0 = i - C->xs[0];
+          PetscInt       l1 = l0 + 1;
+          while (l1 + C->xs[0] < PetscMin(xb, C->ce[0]) && W[PS_GL_FLAG * nw + l1] != 0.0) l1++; /* (xb may lie beyond the row's cells) */
+          ToGridGasNodes(dim, &C->K, oc0 + C->xs[0], orow, l0, l1, dof, fo, nw, W, g);
+          n += l1 - l0 - 1;
+          i += l1 - l0 - 1;
+          continue;
+        }
         PSCellsPresent(C, ci, &m0, &m1);
         CellMix(C, u, ec, m0, m1, &Mc, &Vm, &cmax);
         if (Mc <= 0.0) continue;
@@ -313,20 +442,6 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
   C->sat[6] = rho;
 }
 
-/* the cell materials whose cells the Lagrangian phases' lanes take
-   (PredictGasLanes, LagrangeGasLanes), gasf[m], and their gamma: an ideal
-   gas (the predictor's own update for it) without a deviator */
-static void GasLanesMaterials(const PSSolver *S, PetscBool strength, PetscInt gasf[], PetscReal gam[])
-{
-  const PSCells *C = S->cells;
-  PetscInt       m;
-  for (m = 0; m < C->nmat; m++) {
-    const PSMaterial *M = &S->mat[C->mat[m]];
-    gasf[m]             = M->eos_fn == PSEOSIdealGas && M->spall >= 0.0 && M->gamma > 0.0 && !(strength && M->G > 0.0);
-    gam[m]              = M->gamma;
-  }
-}
-
 /* The predictor's half-step values of the cells [0, nr) of a row (cell i0 + l
    in lane l; ghosted index ci0 + i0 + l, lower corner node oc0 + i0 + l, EOS
    slot index n0 + l) that hold one material with mass, an ideal gas
@@ -354,13 +469,13 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
      or none takes zeros (its EOS slots need not exist: none for none) */
   for (l = 0; l < nr; l++) {
     const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
-    const PetscReal *blk = &U[ms * ci + mst * ss], zero[3] = {0.0, 0.0, 0.0}, *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : zero;
+    const PetscReal *blk = &U[ms * ci + mst * ss], *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : NULL; /* (ec only where s >= 0) */
     W[PS_PL_M * w + l]   = blk[PS_CM];
     W[PS_PL_V * w + l]   = blk[PS_CV];
     W[PS_PL_E * w + l]   = blk[PS_CE];
-    W[PS_PL_EC0 * w + l] = ec[0];
-    W[PS_PL_EC1 * w + l] = ec[1];
-    W[PS_PL_EC2 * w + l] = ec[2];
+    W[PS_PL_EC0 * w + l] = ec ? ec[0] : 0.0;
+    W[PS_PL_EC1 * w + l] = ec ? ec[1] : 0.0;
+    W[PS_PL_EC2 * w + l] = ec ? ec[2] : 0.0;
     W[PS_PL_G * w + l]   = gam[ss];
     W[PS_PL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
   }
@@ -637,12 +752,12 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
      or none takes zeros (its EOS slots need not exist: none for none) */
   for (l = 0; l < nr; l++) {
     const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
-    const PetscReal *blk = &U[ms * ci + mst * ss], zero[3] = {0.0, 0.0, 0.0}, *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : zero;
+    const PetscReal *blk = &U[ms * ci + mst * ss], *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : NULL; /* (ec only where s >= 0) */
     W[PS_LL_M * w + l]   = blk[PS_CM];
     W[PS_LL_V * w + l]   = blk[PS_CV];
     W[PS_LL_E * w + l]   = blk[PS_CE];
-    W[PS_LL_C * w + l]   = ec[1];
-    W[PS_LL_CHI * w + l] = ec[2];
+    W[PS_LL_C * w + l]   = ec ? ec[1] : 0.0;
+    W[PS_LL_CHI * w + l] = ec ? ec[2] : 0.0;
     W[PS_LL_PK * w + l]  = s >= 0 ? HM[hmat * (eco[n0 + l] + s)] : 0.0;
     W[PS_LL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
   }
