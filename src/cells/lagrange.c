@@ -144,7 +144,7 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
   const short     *sole = C->sole;
   const PSCorners *K    = &C->K;
   PetscReal       *HS   = C->hs;
-  PetscInt         l;
+  PetscInt         l, ng = 0;
 
   /* each cell's material's values into planes (a gather, apart from the
      lanes); a cell of several materials or none takes zeros */
@@ -157,6 +157,11 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
     W[PS_GL_EC1 * w + l] = ec ? ec[1] : 0.0;
     W[PS_GL_EC2 * w + l] = ec ? ec[2] : 0.0;
     W[PS_GL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
+    ng += s >= 0 && gasf[ss];
+  }
+  if (!ng) { /* (none: the lanes' arithmetic is not worth its time) */
+    for (l = 0; l < nr; l++) W[PS_GL_FLAG * w + l] = 0.0;
+    return;
   }
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
@@ -462,7 +467,7 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
   const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, nco = 1 << dim; /* (W: PS_PL_N planes) */
   const short     *sole = C->sole;
   const PSCorners *K    = &C->K;
-  PetscInt         l, a;
+  PetscInt         l, a, ng = 0;
 
   /* each cell's material's values into planes (their places depend on the
      material: a gather, apart from the lanes); a cell of several materials
@@ -478,6 +483,11 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
     W[PS_PL_EC2 * w + l] = ec ? ec[2] : 0.0;
     W[PS_PL_G * w + l]   = gam[ss];
     W[PS_PL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
+    ng += s >= 0 && gasf[ss];
+  }
+  if (!ng) { /* (none: the lanes' arithmetic is not worth its time) */
+    for (l = 0; l < nr; l++) W[PS_PL_FLAG * w + l] = 0.0;
+    return;
   }
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
@@ -745,7 +755,7 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
   const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C), nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize; W: PS_LL_N planes) */
   const short     *sole = C->sole;
   const PSCorners *K    = &C->K;
-  PetscInt         l;
+  PetscInt         l, ng = 0;
 
   /* each cell's material's values into planes (their places depend on the
      material: a gather, apart from the lanes); a cell of several materials
@@ -760,6 +770,11 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
     W[PS_LL_CHI * w + l] = ec ? ec[2] : 0.0;
     W[PS_LL_PK * w + l]  = s >= 0 ? HM[hmat * (eco[n0 + l] + s)] : 0.0;
     W[PS_LL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
+    ng += s >= 0 && gasf[ss];
+  }
+  if (!ng) { /* (none: the lanes' arithmetic is not worth its time) */
+    for (l = 0; l < nr; l++) W[PS_LL_FLAG * w + l] = 0.0;
+    return;
   }
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
