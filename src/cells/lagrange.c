@@ -126,6 +126,75 @@ static void GasLanesMaterials(const PSSolver *S, PetscBool strength, PetscInt ga
   }
 }
 
+/* The lanes' gather (ToGridGasLanes, PredictGasLanes, LagrangeGasLanes):
+   the values of the material of each cell [0, nr) of a row (cell i0 + l,
+   ghosted index ci0 + i0 + l, EOS slot index n0 + l) into planes of w reals
+   at In (PS_GI_*), apart from the lanes, since their places depend on the
+   material: its M, V, E, EOS values, p_k^h (the predictor's, where it has
+   run), gamma, and 1 where the cell holds one material of gasf; a cell of
+   several materials or none takes zeros (its slots need not exist).
+   Returns how many cells hold one material of gasf */
+enum { PS_GI_M, PS_GI_V, PS_GI_E, PS_GI_EC0, PS_GI_EC1, PS_GI_EC2, PS_GI_PK, PS_GI_G, PS_GI_GAS, PS_GI_N };
+static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n0, PetscInt i0, PetscInt nr, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *In)
+{
+  const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm;
+  const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C);
+  const short     *sole = C->sole;
+  PetscInt         l, ng = 0;
+  for (l = 0; l < nr; l++) {
+    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0, e = s >= 0 ? eco[n0 + l] + s : 0;
+    const PetscReal *blk = &U[ms * ci + mst * ss];
+    In[PS_GI_M * w + l]   = blk[PS_CM];
+    In[PS_GI_V * w + l]   = blk[PS_CV];
+    In[PS_GI_E * w + l]   = blk[PS_CE];
+    In[PS_GI_EC0 * w + l] = s >= 0 ? EC[PS_EC * e] : 0.0;
+    In[PS_GI_EC1 * w + l] = s >= 0 ? EC[PS_EC * e + 1] : 0.0;
+    In[PS_GI_EC2 * w + l] = s >= 0 ? EC[PS_EC * e + 2] : 0.0;
+    In[PS_GI_PK * w + l]  = s >= 0 ? HM[hmat * e] : 0.0;
+    In[PS_GI_G * w + l]   = gam[ss];
+    In[PS_GI_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
+    ng += s >= 0 && gasf[ss];
+  }
+  return ng;
+}
+
+/* The lanes' pieces, each the scalar code's arithmetic in its order without
+   a branch.  CellMix's one material: M_c, V_m and c_max from the material's
+   M, V and sound speed c */
+static inline void GasLanesMix(PetscReal M, PetscReal V, PetscReal c, PetscReal *Mc, PetscReal *Vm, PetscReal *cmax)
+{
+  const PetscReal c1 = PetscMax(0.0, c);
+  *Mc   = PetscMax(M, 0.0);
+  *Vm   = PetscMax(V, 0.0);
+  *cmax = M > 0.0 && V >= PS_TRACE * *Vm ? c1 : 0.0;
+}
+
+/* PSCellsShareVolume's one-material case (PSCellsVoidShare,
+   PSCellsMaterialShare): the material's share dVk of the cell's dV, and the
+   void V0 after its share (the case holds where V0 <= PS_VOID_ROUNDOFF V_c) */
+static inline void GasLanesShare(PetscReal Vc, PetscReal V, PetscReal VM, PetscReal chi, PetscReal chiM, PetscReal dV, PetscReal *dVk, PetscReal *V0e)
+{
+  const PetscReal V0 = PetscMax(Vc - V - VM, 0.0), take = PetscMin(-dV, V0), V0p = V0 + dV, V0n = V0 - take, rn = dV + take;
+  const PetscBool neg = dV < 0.0, pv = V0 > PS_VOID_TRACE * Vc;
+  const PetscReal rest = neg ? rn : (pv ? 0.0 : dV), dchi = chi > 0.0 ? chi + chiM : 1.0, sh = PetscMax(rest * chi / dchi, -0.5 * V);
+  *V0e = neg ? V0n : (pv ? V0p : V0);
+  *dVk = chi > 0.0 ? sh : 0.0;
+}
+
+/* PSViscosity */
+static inline PetscReal GasLanesViscosity(PetscReal rho, PetscReal h, PetscReal trD, PetscReal c, PetscReal c_linear, PetscReal c_quadratic)
+{
+  const PetscReal qv = rho * h * (c_quadratic * h * trD * trD + c_linear * c * PetscAbsReal(trD));
+  return trD < 0.0 ? qv : 0.0;
+}
+
+/* PSCellsForcePressure of one material of compliance chi at pressure p */
+static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
+{
+  const PetscReal sc = 0.0 + chi, scd = sc > 0.0 ? sc : 1.0, pf = (0.0 + chi * p) / scd;
+  return sc > 0.0 ? pf : 0.0;
+}
+
 /* The cells' P2G of the cells [0, nr) of a row (cell i0 + l in lane l, as
    PredictGasLanes) that hold one material with mass, an ideal gas (gasf[m]),
    in a scene without strength: PSCellsToGridDim's arithmetic for such a
@@ -134,45 +203,29 @@ static void GasLanesMaterials(const PSSolver *S, PetscBool strength, PetscInt ga
    the planes of w reals at W: the flag (1: these values are P2G's; 0: its own
    loop takes the cell), the mass each corner takes, M_c / 2^dim, and corner
    a's force component d (times fs) in plane PS_GL_F + a dim + d */
-enum { PS_GL_FLAG, PS_GL_M, PS_GL_V, PS_GL_EC0, PS_GL_EC1, PS_GL_EC2, PS_GL_GAS, PS_GL_MC, PS_GL_F };
-static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, const PetscInt *gasf, PetscInt w, PetscReal *W)
+enum { PS_GL_FLAG, PS_GL_MC, PS_GL_F }; /* (then the forces' 2^dim dim planes, then the gather's PS_GI_N) */
+static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *W)
 {
   const PSCells   *C  = S->cells;
-  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q);
-  const PetscReal *U = C->u, *EC = C->ec, *VL = C->sVL;
-  const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize; W: PS_GL_F + 2^dim dim planes) */
-  const short     *sole = C->sole;
-  const PSCorners *K    = &C->K;
-  PetscReal       *HS   = C->hs;
-  PetscInt         l, ng = 0;
+  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *VL = C->sVL;
+  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize) */
+  const PSCorners *K  = &C->K;
+  PetscReal       *HS = C->hs, *In = &W[(PS_GL_F + nco * dim) * w];
+  PetscInt         l;
 
-  /* each cell's material's values into planes (a gather, apart from the
-     lanes); a cell of several materials or none takes zeros */
-  for (l = 0; l < nr; l++) {
-    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
-    const PetscReal *blk = &U[ms * ci + mst * ss], *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : NULL; /* (ec only where s >= 0) */
-    W[PS_GL_M * w + l]   = blk[PS_CM];
-    W[PS_GL_V * w + l]   = blk[PS_CV];
-    W[PS_GL_EC0 * w + l] = ec ? ec[0] : 0.0;
-    W[PS_GL_EC1 * w + l] = ec ? ec[1] : 0.0;
-    W[PS_GL_EC2 * w + l] = ec ? ec[2] : 0.0;
-    W[PS_GL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
-    ng += s >= 0 && gasf[ss];
-  }
-  if (!ng) { /* (none: the lanes' arithmetic is not worth its time) */
+  if (!GasLanesGather(C, ci0, n0, i0, nr, gasf, gam, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
     for (l = 0; l < nr; l++) W[PS_GL_FLAG * w + l] = 0.0;
     return;
   }
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
     const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal M = W[PS_GL_M * w + l], V = W[PS_GL_V * w + l], ec0 = W[PS_GL_EC0 * w + l], ec2 = W[PS_GL_EC2 * w + l];
-    /* CellMix's one material; PSCellsForcePressure; sig = -(p_f + q) V_m I */
-    const PetscReal Mc = PetscMax(M, 0.0), Vm = PetscMax(V, 0.0), c1 = PetscMax(0.0, W[PS_GL_EC1 * w + l]), cmax = M > 0.0 && V >= PS_TRACE * Vm ? c1 : 0.0;
-    const PetscReal sc = 0.0 + ec2, scd = sc > 0.0 ? sc : 1.0, pn = (0.0 + ec2 * ec0) / scd, pf = sc > 0.0 ? pn : 0.0;
-    const PetscReal sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
-    PetscReal       hg[4][3], *gh = &HS[hsd * (n0 + l) + 1];
+    const PetscReal M = In[PS_GI_M * w + l], V = In[PS_GI_V * w + l];
+    PetscReal       Mc, Vm, cmax, hg[4][3], *gh = &HS[hsd * (n0 + l) + 1];
     PetscInt        a, d, e;
+    /* sig = -(p_f + q) V_m I */
+    GasLanesMix(M, V, In[PS_GI_EC1 * w + l], &Mc, &Vm, &cmax);
+    const PetscReal pf = GasLanesForcePressure(In[PS_GI_EC2 * w + l], In[PS_GI_EC0 * w + l]), sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
     HourglassRatesDim(K, dim, oc, VL, hg);
     for (e = 0; e < nh; e++)
       for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
@@ -184,7 +237,7 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
         for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
         W[(PS_GL_F + a * dim + d) * w + l] = fs * fd;
       }
-    W[PS_GL_FLAG * w + l] = W[PS_GL_GAS * w + l] != 0.0 && M > 0.0 ? 1.0 : 0.0;
+    W[PS_GL_FLAG * w + l] = In[PS_GI_GAS * w + l] != 0.0 && M > 0.0 ? 1.0 : 0.0;
   }
 }
 
@@ -261,7 +314,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
-      if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, gasf, nw, W);
+      if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, gasf, gam, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = ci0 + i;
         const PetscReal *u  = &C->u[C->ms * ci];
@@ -458,45 +511,28 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
    values are the predictor's, 0: the predictor's own loop takes the cell),
    q^h, the force's change of pressure -V_m (p_f^h + q^h - p_f^n - q^n), p_k^h,
    the mass M_c and the sound speed c_max (the hourglass viscosity) */
-enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_M, PS_PL_V, PS_PL_E, PS_PL_EC0, PS_PL_EC1, PS_PL_EC2, PS_PL_G, PS_PL_GAS, PS_PL_N };
+enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_IN }; /* (then the gather's PS_GI_N) */
 static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *W)
 {
   const PSCells   *C  = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
-  const PetscReal *U = C->u, *EC = C->ec, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
-  const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, nco = 1 << dim; /* (W: PS_PL_N planes) */
-  const short     *sole = C->sole;
-  const PSCorners *K    = &C->K;
-  PetscInt         l, a, ng = 0;
+  const PetscReal *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
+  const PetscInt   nco = 1 << dim;
+  const PSCorners *K  = &C->K;
+  PetscReal       *In = &W[PS_PL_IN * w];
+  PetscInt         l, a;
 
-  /* each cell's material's values into planes (their places depend on the
-     material: a gather, apart from the lanes); a cell of several materials
-     or none takes zeros (its EOS slots need not exist: none for none) */
-  for (l = 0; l < nr; l++) {
-    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
-    const PetscReal *blk = &U[ms * ci + mst * ss], *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : NULL; /* (ec only where s >= 0) */
-    W[PS_PL_M * w + l]   = blk[PS_CM];
-    W[PS_PL_V * w + l]   = blk[PS_CV];
-    W[PS_PL_E * w + l]   = blk[PS_CE];
-    W[PS_PL_EC0 * w + l] = ec ? ec[0] : 0.0;
-    W[PS_PL_EC1 * w + l] = ec ? ec[1] : 0.0;
-    W[PS_PL_EC2 * w + l] = ec ? ec[2] : 0.0;
-    W[PS_PL_G * w + l]   = gam[ss];
-    W[PS_PL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
-    ng += s >= 0 && gasf[ss];
-  }
-  if (!ng) { /* (none: the lanes' arithmetic is not worth its time) */
+  if (!GasLanesGather(C, ci0, n0, i0, nr, gasf, gam, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
     for (l = 0; l < nr; l++) W[PS_PL_FLAG * w + l] = 0.0;
     return;
   }
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
     const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal M = W[PS_PL_M * w + l], V = W[PS_PL_V * w + l], E = W[PS_PL_E * w + l], ec0 = W[PS_PL_EC0 * w + l], ec1 = W[PS_PL_EC1 * w + l], ec2 = W[PS_PL_EC2 * w + l], Q = XQ[ci];
-    /* CellMix's one material */
-    const PetscReal Mc = PetscMax(M, 0.0), Vm = PetscMax(V, 0.0), c1 = PetscMax(0.0, ec1), cmax = M > 0.0 && V >= PS_TRACE * Vm ? c1 : 0.0;
+    const PetscReal M = In[PS_GI_M * w + l], V = In[PS_GI_V * w + l], E = In[PS_GI_E * w + l], ec0 = In[PS_GI_EC0 * w + l], ec2 = In[PS_GI_EC2 * w + l], Q = XQ[ci];
+    PetscReal       Mc, Vm, cmax, dVk, V0e, L0 = 0.0, L1 = 0.0, L2 = 0.0, trD;
+    GasLanesMix(M, V, In[PS_GI_EC1 * w + l], &Mc, &Vm, &cmax);
     /* the diagonal of CellGradientDim's L, in its order */
-    PetscReal L0 = 0.0, L1 = 0.0, L2 = 0.0, trD;
 #pragma GCC unroll 8
     for (a = 0; a < nco; a++) {
       const PetscReal *v = &vh[dim * (oc + K->off[a])];
@@ -505,21 +541,15 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
       if (dim == 3) L2 += v[2] * K->gN[a][2];
     }
     trD = L0 + L1 + L2;
-    /* PSCellsShareVolume's one-material case (PSCellsVoidShare, PSCellsMaterialShare) */
-    const PetscReal dVh = 0.5 * Vc * dt * trD, VM = XAM[ci] * Vc, chiM = XCM[ci], chi = ec2;
-    const PetscReal V0 = PetscMax(Vc - V - VM, 0.0), take = PetscMin(-dVh, V0), V0p = V0 + dVh, V0n = V0 - take, rn = dVh + take;
-    const PetscBool neg = dVh < 0.0, pv = V0 > PS_VOID_TRACE * Vc;
-    const PetscReal rest = neg ? rn : (pv ? 0.0 : dVh), V0e = neg ? V0n : (pv ? V0p : V0);
-    const PetscReal dchi = chi > 0.0 ? chi + chiM : 1.0, sh = PetscMax(rest * chi / dchi, -0.5 * V), dVk = chi > 0.0 ? sh : 0.0;
-    /* the ideal gas's p_k^h (the predictor's two divisions) */
-    const PetscReal V1 = PetscMax(V + dVk, 0.5 * V), V1d = V1 > 0.0 ? V1 : 1.0, dV = V1 - V, iV1 = 1.0 / V1d, g1 = W[PS_PL_G * w + l] - 1.0;
+    /* half the volume change, shared; the ideal gas's p_k^h (the predictor's two divisions) */
+    const PetscReal dVh = 0.5 * Vc * dt * trD;
+    GasLanesShare(Vc, V, XAM[ci] * Vc, ec2, XCM[ci], dVh, &dVk, &V0e);
+    const PetscReal V1 = PetscMax(V + dVk, 0.5 * V), V1d = V1 > 0.0 ? V1 : 1.0, dV = V1 - V, iV1 = 1.0 / V1d, g1 = In[PS_GI_G * w + l] - 1.0;
     const PetscReal den = 1.0 + 0.5 * g1 * dV * iV1, dd = den != 0.0 ? den : 1.0, pk0 = g1 * iV1 * (E - dV * (0.5 * ec0 + Q)) / dd, pk = PetscMax(pk0, 0.0);
-    const PetscReal Vh = 0.0 + V1, sc = 0.0 + ec2, sp = 0.0 + ec2 * pk;
-    /* PSViscosity at Mc / Vh; p_f^h and p_f^n (PSCellsForcePressure) */
-    const PetscReal Vhd = Vh != 0.0 ? Vh : 1.0, rho = Mc / Vhd, qv = rho * hm * (cq * hm * trD * trD + cl * cmax * PetscAbsReal(trD)), qh = trD < 0.0 ? qv : 0.0;
-    const PetscReal scd = sc > 0.0 ? sc : 1.0, pf = sp / scd, pfh = sc > 0.0 ? pf : 0.0, fn = (0.0 + ec2 * ec0) / scd, fp = sc > 0.0 ? fn : 0.0;
-    const PetscReal dp = pfh + qh - fp - Q;
-    const PetscBool ok = W[PS_PL_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
+    const PetscReal Vh = 0.0 + V1, Vhd = Vh != 0.0 ? Vh : 1.0;
+    /* q^h at Mc / Vh; p_f^h and p_f^n */
+    const PetscReal qh = GasLanesViscosity(Mc / Vhd, hm, trD, cmax, cl, cq), dp = GasLanesForcePressure(ec2, pk) + qh - GasLanesForcePressure(ec2, ec0) - Q;
+    const PetscBool ok = In[PS_GI_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
     W[PS_PL_FLAG * w + l] = ok ? 1.0 : 0.0;
     W[PS_PL_QH * w + l]   = qh;
     W[PS_PL_DSIG * w + l] = 0.0 - Vm * dp;
@@ -746,56 +776,36 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
    negative, which that loop reports or books), the cell's volume V_c + dV,
    the material's new volume and energy, q, the time step's viscous term and
    density, c_max and the largest corner speed */
-enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX, PS_LL_M, PS_LL_V, PS_LL_E, PS_LL_CHI, PS_LL_C, PS_LL_PK, PS_LL_GAS, PS_LL_N };
-static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, const PetscInt *gasf, PetscInt w, PetscReal *W)
+enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX, PS_LL_IN }; /* (then the gather's PS_GI_N) */
+static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *W)
 {
   const PSCells   *C   = S->cells;
   const PetscReal *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
-  const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm, *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
-  const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C), nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize; W: PS_LL_N planes) */
-  const short     *sole = C->sole;
-  const PSCorners *K    = &C->K;
-  PetscInt         l, ng = 0;
+  const PetscReal *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
+  const PetscInt   nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize) */
+  const PSCorners *K  = &C->K;
+  PetscReal       *In = &W[PS_LL_IN * w];
+  PetscInt         l;
 
-  /* each cell's material's values into planes (their places depend on the
-     material: a gather, apart from the lanes); a cell of several materials
-     or none takes zeros (its EOS slots need not exist: none for none) */
-  for (l = 0; l < nr; l++) {
-    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0;
-    const PetscReal *blk = &U[ms * ci + mst * ss], *ec = s >= 0 ? &EC[PS_EC * (eco[n0 + l] + s)] : NULL; /* (ec only where s >= 0) */
-    W[PS_LL_M * w + l]   = blk[PS_CM];
-    W[PS_LL_V * w + l]   = blk[PS_CV];
-    W[PS_LL_E * w + l]   = blk[PS_CE];
-    W[PS_LL_C * w + l]   = ec ? ec[1] : 0.0;
-    W[PS_LL_CHI * w + l] = ec ? ec[2] : 0.0;
-    W[PS_LL_PK * w + l]  = s >= 0 ? HM[hmat * (eco[n0 + l] + s)] : 0.0;
-    W[PS_LL_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
-    ng += s >= 0 && gasf[ss];
-  }
-  if (!ng) { /* (none: the lanes' arithmetic is not worth its time) */
+  if (!GasLanesGather(C, ci0, n0, i0, nr, gasf, gam, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
     for (l = 0; l < nr; l++) W[PS_LL_FLAG * w + l] = 0.0;
     return;
   }
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
     const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal  M = W[PS_LL_M * w + l], V = W[PS_LL_V * w + l], E = W[PS_LL_E * w + l], chi = W[PS_LL_CHI * w + l], pk = W[PS_LL_PK * w + l];
+    const PetscReal  M = In[PS_GI_M * w + l], V = In[PS_GI_V * w + l], E = In[PS_GI_E * w + l], pk = In[PS_GI_PK * w + l];
     const PetscReal *hs = &HS[hsd * (n0 + l)], qh = hs[0], *gh = hs + 1;
-    PetscReal        L[3][3], vmax, hg[4][3], hgw = 0.0;
+    PetscReal        L[3][3], vmax, hg[4][3], hgw = 0.0, Mc, Vm, cmax, dVk, V0e;
     PetscInt         e, d;
-    /* CellGradientDim's L and corner speed; the cell's volume change */
+    /* CellGradientDim's L and corner speed; the cell's volume change, shared
+       (the one-material case: dVr = 0, p* = 0) */
     CellGradientDim(K, dim, oc, vh, L, &vmax);
-    const PetscReal trD = L[0][0] + L[1][1] + L[2][2], dV = Vc * dt * trD;
-    /* CellMix's one material */
-    const PetscReal Mc = PetscMax(M, 0.0), Vm = PetscMax(V, 0.0), c1 = PetscMax(0.0, W[PS_LL_C * w + l]), cmax = M > 0.0 && V >= PS_TRACE * Vm ? c1 : 0.0;
-    /* PSCellsShareVolume's one-material case: dVr = 0, p* = 0 */
-    const PetscReal VM = XAM[ci] * Vc, chiM = XCM[ci];
-    const PetscReal V0 = PetscMax(Vc - V - VM, 0.0), take = PetscMin(-dV, V0), V0p = V0 + dV, V0n = V0 - take, rn = dV + take;
-    const PetscBool neg = dV < 0.0, pv = V0 > PS_VOID_TRACE * Vc;
-    const PetscReal rest = neg ? rn : (pv ? 0.0 : dV), V0e = neg ? V0n : (pv ? V0p : V0);
-    const PetscReal dchi = chi > 0.0 ? chi + chiM : 1.0, sh = PetscMax(rest * chi / dchi, -0.5 * V), dVk = chi > 0.0 ? sh : 0.0, dVr = 0.0, pr = 0.0;
-    /* q (PSViscosity) */
-    const PetscReal Vmd = Vm > 0.0 ? Vm : 1.0, rho = Mc / Vmd, qv = rho * hm * (cq * hm * trD * trD + cl * cmax * PetscAbsReal(trD)), q = trD < 0.0 ? qv : 0.0;
+    const PetscReal trD = L[0][0] + L[1][1] + L[2][2], dV = Vc * dt * trD, dVr = 0.0, pr = 0.0;
+    GasLanesMix(M, V, In[PS_GI_EC1 * w + l], &Mc, &Vm, &cmax);
+    GasLanesShare(Vc, V, XAM[ci] * Vc, In[PS_GI_EC2 * w + l], XCM[ci], dV, &dVk, &V0e);
+    /* q */
+    const PetscReal Vmd = Vm > 0.0 ? Vm : 1.0, rho = Mc / Vmd, q = GasLanesViscosity(rho, hm, trD, cmax, cl, cq);
     /* hourglass heating, kappa sum_m g_m^h . g_m dt (HourglassKappa) */
     const PetscReal kap = K->khg * Mc * cmax;
     HourglassRatesDim(K, dim, oc, vh, hg);
@@ -806,7 +816,7 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
     const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
     /* the time step's viscous term (Fastest's) */
     const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
-    const PetscBool ok = W[PS_LL_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
+    const PetscBool ok = In[PS_GI_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
     W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
     W[PS_LL_XV * w + l]   = Vc + dV;
     W[PS_LL_V1 * w + l]   = V1;
@@ -861,7 +871,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
       PetscInt       ci0, oc0;
       const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, NULL, NULL);
-      if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, gasf, nw, W);
+      if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, gasf, gam, nw, W);
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt   ci = ci0 + i, n = x0 + i, l = i - C->cs[0];
         PetscReal       *u  = &C->u[C->ms * ci];
