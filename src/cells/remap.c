@@ -47,6 +47,14 @@ static inline PetscReal VanLeer(PetscReal a, PetscReal b)
   return a * b > 0.0 ? 2.0 * a * b / (a + b) : 0.0;
 }
 
+/* VanLeer without a branch (the lanes: every value computed, a divisor 1
+   where its value is not used), the same value */
+static inline PetscReal VanLeerLanes(PetscReal a, PetscReal b)
+{
+  const PetscReal ab = a * b, sum = a + b, den = ab > 0.0 ? sum : 1.0, v = 2.0 * a * b / den;
+  return ab > 0.0 ? v : 0.0;
+}
+
 /* The participants of the interface reconstruction, in dissection order:
    the markers (solid bodies first), the cell materials, void last.  Their
    cumulative volume fractions A_k = sum_{j <= k} alpha_j (of each cell's
@@ -482,8 +490,7 @@ static inline void DualFluxLanes(const PetscInt dim, const PetscReal *VL, PetscI
       for (q = 0; q < dim; q++) {
         const PetscReal *Vq = &VL[q * nv], vL = Vq[oL], vU = Vq[oL + sd], vLm = Vq[oL - sd], vUp = Vq[oL + 2 * sd];
         const PetscReal vu = up ? vL : vU, vd = up ? vU : vL, vb = mb > 0.0 ? (up ? vLm : vUp) : vu;
-        const PetscReal s = vu - vb, t = vd - vu, st = s * t, sum = s + t, den = st > 0.0 ? sum : 1.0, vl = 2.0 * s * t / den;
-        const PetscReal vf = vu + g * (st > 0.0 ? vl : 0.0); /* (VanLeer) */
+        const PetscReal vf = vu + g * VanLeerLanes(vu - vb, vd - vu);
         v2 += vf * vf;
         W[(c * (dim + 1) + q) * w + k] = phi * vf;
       }
