@@ -71,6 +71,14 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   C->ns        = PSStressComponents(S->dim);
   C->nq        = strength ? C->ns + 2 : 0;
   C->ms        = 3 + C->nq;
+  /* the materials whose one-material cells the Lagrangian phases take in
+     SIMD lanes (lagrange.c): an ideal gas (the predictor's own update for
+     it) without a deviator */
+  for (k = 0; k < C->nmat; k++) {
+    const PSMaterial *M = &mats[C->mat[k]];
+    C->gasf[k]          = M->eos_fn == PSEOSIdealGas && M->spall >= 0.0 && M->gamma > 0.0 && !(C->nq > 0 && M->G > 0.0);
+    C->gam[k]           = M->gamma;
+  }
   C->dof       = C->nmat * C->ms + PS_CX_N;
   C->hourglass = 0.1;
   PetscCall(PetscMalloc1(scene->nmaterial, &C->Kmat));

@@ -80,6 +80,8 @@ typedef struct PSCells_ {
   PetscBool markers;              /* the scene has marker bodies */
   PetscInt  mat[PS_MAX_CELLMAT];  /* their material ids */
   PetscReal rho_min[PS_MAX_CELLMAT]; /* each one's density below which the remap discards it: PS_RHO_MIN rho0 (kg/m^3; remap.c) */
+  PetscInt  gasf[PS_MAX_CELLMAT];    /* 1 for an ideal gas without a deviator: its one-material cells take the Lagrangian phases in SIMD lanes (lagrange.c) */
+  PetscReal gam[PS_MAX_CELLMAT];     /* each one's gamma (the lanes' ideal gas; 0 for other EOS) */
   PetscInt  nq;                   /* advected quantities per material after E: 0, or ns + 2 */
   PetscInt  ns;                   /* stress components (4 in 2D, 6 in 3D) */
   PetscInt  ms;                   /* reals per material block: 3 + nq */

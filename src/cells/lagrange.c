@@ -112,32 +112,20 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
     if (u[m * C->mst + PS_CM] > 0.0 && u[m * C->mst + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
-/* the cell materials whose cells the Lagrangian phases' lanes take
-   (ToGridGasLanes, PredictGasLanes, LagrangeGasLanes), gasf[m], and their gamma: an ideal
-   gas (the predictor's own update for it) without a deviator */
-static void GasLanesMaterials(const PSSolver *S, PetscBool strength, PetscInt gasf[], PetscReal gam[])
-{
-  const PSCells *C = S->cells;
-  PetscInt       m;
-  for (m = 0; m < C->nmat; m++) {
-    const PSMaterial *M = &S->mat[C->mat[m]];
-    gasf[m]             = M->eos_fn == PSEOSIdealGas && M->spall >= 0.0 && M->gamma > 0.0 && !(strength && M->G > 0.0);
-    gam[m]              = M->gamma;
-  }
-}
-
 /* The lanes' gather (ToGridGasLanes, PredictGasLanes, LagrangeGasLanes):
    the values of the material of each cell [0, nr) of a row (cell i0 + l,
    ghosted index ci0 + i0 + l, EOS slot index n0 + l) into planes of w reals
    at In (PS_GI_*), apart from the lanes, since their places depend on the
    material: its M, V, E, EOS values, p_k^h (the predictor's, where it has
-   run), gamma, and 1 where the cell holds one material of gasf; a cell of
+   run), gamma, and 1 where the cell holds one material of C->gasf (set
+   with the cells, cells.c); a cell of
    several materials or none takes zeros (its slots need not exist).
-   Returns how many cells hold one material of gasf */
+   Returns how many cells hold one material of C->gasf */
 enum { PS_GI_M, PS_GI_V, PS_GI_E, PS_GI_EC0, PS_GI_EC1, PS_GI_EC2, PS_GI_PK, PS_GI_G, PS_GI_GAS, PS_GI_N };
-static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n0, PetscInt i0, PetscInt nr, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *In)
+static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n0, PetscInt i0, PetscInt nr, PetscInt w, PetscReal *In)
 {
-  const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm;
+  const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm, *gam = C->gam;
+  const PetscInt  *gasf = C->gasf;
   const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C);
   const short     *sole = C->sole;
   PetscInt         l, ng = 0;
@@ -196,7 +184,7 @@ static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
 }
 
 /* The cells' P2G of the cells [0, nr) of a row (cell i0 + l in lane l, as
-   PredictGasLanes) that hold one material with mass, an ideal gas (gasf[m]),
+   PredictGasLanes) that hold one material with mass, an ideal gas (C->gasf),
    in a scene without strength: PSCellsToGridDim's arithmetic for such a
    cell, in its order, without a branch, so the row's loop takes it in SIMD
    lanes; the hourglass rates into the cell's slot of C->hs as there.  Into
@@ -204,7 +192,7 @@ static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
    loop takes the cell), the mass each corner takes, M_c / 2^dim, and corner
    a's force component d (times fs) in plane PS_GL_F + a dim + d */
 enum { PS_GL_FLAG, PS_GL_MC, PS_GL_F }; /* (then the forces' 2^dim dim planes, then the gather's PS_GI_N) */
-static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *W)
+static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, PetscInt w, PetscReal *W)
 {
   const PSCells   *C  = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *VL = C->sVL;
@@ -213,7 +201,7 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
   PetscReal       *HS = C->hs, *In = &W[(PS_GL_F + nco * dim) * w];
   PetscInt         l;
 
-  if (!GasLanesGather(C, ci0, n0, i0, nr, gasf, gam, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
+  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
     for (l = 0; l < nr; l++) W[PS_GL_FLAG * w + l] = 0.0;
     return;
   }
@@ -294,8 +282,8 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = !strength && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (without strength; -run_lanes 1: the scalar loop alone, for checks) */
-  PetscReal      *g = S->g, gam[PS_MAX_CELLMAT], *W = C->sW;
-  PetscInt        i, j, k, m, a, d, e, o, n = 0, orow, gasf[PS_MAX_CELLMAT];
+  PetscReal      *g = S->g, *W = C->sW;
+  PetscInt        i, j, k, m, a, d, e, o, n = 0, orow;
 
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
@@ -307,14 +295,13 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
      corner) */
   for (o = 0; o < C->nnl; o++)
     for (d = 0; d < dim; d++) C->sVL[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
-  GasLanesMaterials(S, strength, gasf, gam); /* (the rows' lanes, ToGridGasLanes) */
   /* every cell around the owned nodes, to its owned corners (PSCellsXIdx:
      each node's sum in one order on any number of ranks) */
   for (k = C->xs[2]; k < C->ce[2]; k++)
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
-      if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, gasf, gam, nw, W);
+      if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = ci0 + i;
         const PetscReal *u  = &C->u[C->ms * ci];
@@ -503,7 +490,7 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
 /* The predictor's half-step values of the cells [0, nr) of a row (cell i0 + l
    in lane l; ghosted index ci0 + i0 + l, lower corner node oc0 + i0 + l, EOS
    slot index n0 + l) that hold one material with mass, an ideal gas
-   (gasf[m], gam[m] its gamma) without markers or void (PSCellsShareVolume's
+   (C->gasf, C->gam its gamma) without markers or void (PSCellsShareVolume's
    one-material case): the predictor's arithmetic for such a cell, in its
    order, without a branch (every test a choice between values computed
    before it, a divisor 1 where its value is not used), so the row's loop
@@ -512,7 +499,7 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
    q^h, the force's change of pressure -V_m (p_f^h + q^h - p_f^n - q^n), p_k^h,
    the mass M_c and the sound speed c_max (the hourglass viscosity) */
 enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_IN }; /* (then the gather's PS_GI_N) */
-static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *W)
+static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
 {
   const PSCells   *C  = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
@@ -522,7 +509,7 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
   PetscReal       *In = &W[PS_PL_IN * w];
   PetscInt         l, a;
 
-  if (!GasLanesGather(C, ci0, n0, i0, nr, gasf, gam, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
+  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
     for (l = 0; l < nr; l++) W[PS_PL_FLAG * w + l] = 0.0;
     return;
   }
@@ -570,8 +557,8 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
-  PetscReal      *g = S->g, hm = 0.0, gam[PS_MAX_CELLMAT], *W = C->sW;
-  PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0, orow, gasf[PS_MAX_CELLMAT];
+  PetscReal      *g = S->g, hm = 0.0, *W = C->sW;
+  PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0, orow;
 
   PetscFunctionBeginUser;
   if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
@@ -606,14 +593,13 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
     }
   }
   PetscCall(PetscArrayzero(C->df, C->nnl * dim));
-  GasLanesMaterials(S, strength, gasf, gam); /* (the rows' lanes, PredictGasLanes) */
   /* every cell around the owned nodes (PSCellsXIdx), its force change to
      its owned corners */
   for (k = C->xs[2]; k < C->ce[2]; k++)
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
-      if (lanes) PredictGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], dt, hm, gasf, gam, nw, W);
+      if (lanes) PredictGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], dt, hm, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = ci0 + i, l = i - C->xs[0];
         const PetscReal *u  = &C->u[C->ms * ci];
@@ -768,7 +754,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
 
 /* The Lagrangian phase's values of the cells [0, nr) of a row (cell i0 + l
    in lane l, as PredictGasLanes) that hold one material with mass, an ideal
-   gas without a deviator (gasf[m]) and without markers or void: the phase's
+   gas without a deviator (C->gasf) and without markers or void: the phase's
    arithmetic for such a cell, in its order, without a branch, so the row's
    loop takes it in SIMD lanes.  Into the planes of w reals at W: the flag (1:
    these values are the phase's; 0: its own loop takes the cell, among them
@@ -777,7 +763,7 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
    the material's new volume and energy, q, the time step's viscous term and
    density, c_max and the largest corner speed */
 enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX, PS_LL_IN }; /* (then the gather's PS_GI_N) */
-static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, const PetscInt *gasf, const PetscReal *gam, PetscInt w, PetscReal *W)
+static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
 {
   const PSCells   *C   = S->cells;
   const PetscReal *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
@@ -787,7 +773,7 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
   PetscReal       *In = &W[PS_LL_IN * w];
   PetscInt         l;
 
-  if (!GasLanesGather(C, ci0, n0, i0, nr, gasf, gam, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
+  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
     for (l = 0; l < nr; l++) W[PS_LL_FLAG * w + l] = 0.0;
     return;
   }
@@ -839,8 +825,8 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
   const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
-  PetscReal       hm = 0.0, smax = 0.0, gam[PS_MAX_CELLMAT], *W = C->sW;
-  PetscInt        i, j, k, m, d, o, gasf[PS_MAX_CELLMAT];
+  PetscReal       hm = 0.0, smax = 0.0, *W = C->sW;
+  PetscInt        i, j, k, m, d, o;
 
   PetscFunctionBeginUser;
   if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
@@ -865,13 +851,12 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         }
       PSNodeBCRow(S, dim, orow, x0, x1, j, k, vh); /* walls hold the faces on them */
     }
-  GasLanesMaterials(S, C->nq > 0 ? PETSC_TRUE : PETSC_FALSE, gasf, gam); /* (the rows' lanes, LagrangeGasLanes; a deviator where C->nq and G > 0) */
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++) {
       PetscInt       ci0, oc0;
       const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, NULL, NULL);
-      if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, gasf, gam, nw, W);
+      if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, nw, W);
       for (i = C->cs[0]; i < C->ce[0]; i++) {
         const PetscInt   ci = ci0 + i, n = x0 + i, l = i - C->cs[0];
         PetscReal       *u  = &C->u[C->ms * ci];
