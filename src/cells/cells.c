@@ -495,7 +495,7 @@ PetscErrorCode PSCellsWrite(PSSolver *S, PetscViewer v, const char *const materi
         PetscReal      Mc = 0.0, Ec = 0.0, pc = 0.0;
         for (m = 0; m < C->nmat; m++) {
           const PetscReal *blk = PSCellsBlk(C, ci, m);
-          PetscReal        p, cs;
+          PetscReal        p = 0.0, cs = 0.0; /* (set by PSCellsPressure; GCC cannot see it on its error path) */
           a[0][n * C->nmat + m] = blk[PS_CV] / C->Vc;
           Mc += blk[PS_CM];
           Ec += blk[PS_CE];
