@@ -653,20 +653,30 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
   PetscInt        m, q, f0, f1, m0, m1;
 
   /* nearly every cell of a single-material region: it holds material s
-     alone, and both faces carry s alone, inside the domain along d.  The
-     general path's arithmetic below, in its order, without its ranges: the
-     other materials hold and take nothing (zero: PSCellsPresent), so the
-     cell's mass is s's and s the one with mass unless it is discarded */
+     alone, and each face carries s alone or nothing, inside the domain
+     along d.  The general path's arithmetic below, in its order, without
+     its ranges: the other materials hold and take nothing (zero:
+     PSCellsPresent), so the cell's mass is s's and s the one with mass
+     unless it is discarded */
   m = C->sole[ci];
-  if (m >= 0 && inner && rl[0] == m && rh[0] == m && rl[1] == m + 1 && rh[1] == m + 1) {
+  const PetscBool sl = rl[0] == m && rl[1] == m + 1, sh = rh[0] == m && rh[1] == m + 1;
+  if (m >= 0 && inner && (sl || (rl[0] == nm && rl[1] == 0)) && (sh || (rh[0] == nm && rh[1] == 0))) {
+    /* (a face that carries nothing, its range empty: a face at rest, in a
+       gas at rest or moving across d; the general path adds its 0, and
+       touches the block only if a face carries m) */
     PetscReal       *b = &u[m * mst];
     const PetscReal *l = &fl[m * ms], *h = &fh[m * ms];
-    if (ms == PS_CQ) { /* a block without advected strength (a gas): V, M, E unrolled (the loop, its length known only at run time, took 49 instructions for these three) */
-      b[0] += l[0] - h[0];
-      b[1] += l[1] - h[1];
-      b[2] += l[2] - h[2];
-    } else
-      for (q = 0; q < ms; q++) b[q] += l[q] - h[q];
+    if (sl && sh) {
+      if (ms == PS_CQ) { /* a block without advected strength (a gas): V, M, E unrolled (the loop, its length known only at run time, took 49 instructions for these three) */
+        b[0] += l[0] - h[0];
+        b[1] += l[1] - h[1];
+        b[2] += l[2] - h[2];
+      } else
+        for (q = 0; q < ms; q++) b[q] += l[q] - h[q];
+    } else if (sl)
+      for (q = 0; q < ms; q++) b[q] += l[q] - 0.0;
+    else if (sh)
+      for (q = 0; q < ms; q++) b[q] += 0.0 - h[q];
     *V += fl[nm * ms] - fh[nm * ms];
     DiscardTrace(S, m, b);
     C->Mcell[ci] = b[PS_CM]; /* (PSCellsCellMass's sum: the others add zeros) */
