@@ -103,6 +103,7 @@ typedef struct PSCells_ {
   PetscReal *sW;                  /* the remap's dual fluxes on a run of cells: per node column, dim planes of phi v_f and one of phi v_f^2 / 2, then a plane of flags (the cell's mid-plane carries anything), a run's length each; the Lagrangian phases' lanes use up to 11 + 2^dim dim (the P2G's, lagrange.c) */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
+  PetscReal *sFd, *sM;            /* per ghosted cell: sP as a real, and its one material's mass where sP >= 0 (FractionsBuild), for the faces' lanes (FaceRunLanes) */
   short       *sP;                /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep) */
   PetscInt  nsF;
   PetscReal *ec;                  /* the step's EOS values of each cell around the owned nodes, PS_EC per material present only (closure.c): PSCellsEC */

@@ -61,15 +61,57 @@ static inline PetscReal VanLeerLanes(PetscReal a, PetscReal b)
    current volume) in a box one cell wider than the ghosted cells on every
    side (copies of the nearest cell outside the domain), so Youngs' normal of
    A_k is material k's in layered cells (plic.h) and every donor has its
-   3x3(x3) block. */
+   3x3(x3) block.  A plane per participant (A_k of cell c at A[k ps + c]):
+   a run of cells writes each plane in SIMD lanes (FractionsRun), and
+   Youngs' stencil reads one plane. */
 typedef struct {
   PetscInt   np;            /* participants: markers, nmat materials, void */
   PetscInt   n[3], s[3];    /* box sizes and strides (doubles) */
+  PetscInt   ps;            /* the planes' stride: the cells in the box */
   PetscInt   o[3];          /* global cell index of the box's first cell */
-  PetscReal *A;             /* np cumulative fractions per cell */
+  PetscReal *A;             /* np planes of cumulative fractions */
 } PSFractions;
 
-static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
+/* FractionsBuild's values for a run of len cells c0 + x of one gas s (a
+   block of V, M, E), each alone with mass in its cell, inside the box's row
+   (a0: the first one's fraction A_0; planes ps apart): the divisions and
+   tests in SIMD lanes, the values each material's plane takes into W's
+   first two planes (of length w), then the planes in lanes too */
+static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt len, PetscReal *a0, PetscInt ps, PetscInt w, PetscReal *W)
+{
+  const PetscInt   nm = C->nmat;
+  const PetscReal  Vc = C->Vc, *blk = &C->u[PS_CQ * c0 + s * C->mst], *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
+  const PetscReal  sd = s;
+  PetscReal       *sS = C->sS, *sFd = C->sFd, *sM = C->sM;
+  short           *sP = C->sP;
+  PetscInt         x, m;
+
+#pragma GCC ivdep
+  for (x = 0; x < len; x++) {
+    const PetscInt  c = c0 + x;
+    const PetscReal Vs = blk[PS_CQ * x + PS_CV], Ms = blk[PS_CQ * x + PS_CM], Es = blk[PS_CQ * x + PS_CE], V = XV[c];
+    const PetscReal iV = 1.0 / V, acc = PetscMin(XA[c] * Vc * iV, 1.0), a2 = PetscMin(acc + Vs * iV, 1.0);
+    sS[2 * c]     = Ms / Vs;
+    sS[2 * c + 1] = Es / Ms;
+    sM[c]         = Ms;
+    sFd[c]        = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && Vs > 0.999 * V ? sd : -1.0;
+    a0[x]         = acc;
+    W[x]          = PetscMin(acc, 1.0);
+    W[w + x]      = a2;
+  }
+  /* the materials' planes: below s none (a1), from s on s's volume (a2) */
+  for (m = 0; m <= nm; m++) {
+    const PetscReal *Wm = &W[m < s ? 0 : w];
+    PetscReal       *am = &a0[(1 + m) * ps];
+    if (m == nm)
+      for (x = 0; x < len; x++) am[x] = 1.0;
+    else
+      for (x = 0; x < len; x++) am[x] = Wm[x];
+  }
+  for (x = 0; x < len; x++) sP[c0 + x] = (short)sFd[c0 + x];
+}
+
+static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, PetscBool lanes, PetscInt w, PetscReal *W)
 {
   const PetscInt dim = C->dim, nm = C->nmat, ms = C->ms;
   PetscInt       i, j, k, e, m, q, ntot = 1;
@@ -81,18 +123,19 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
     fr->o[e] = e < dim ? C->gs[e] - 1 : 0;
     ntot *= fr->n[e];
   }
-  fr->s[0] = fr->np;
-  fr->s[1] = fr->np * fr->n[0];
-  fr->s[2] = fr->np * fr->n[0] * fr->n[1];
+  fr->s[0] = 1;
+  fr->s[1] = fr->n[0];
+  fr->s[2] = fr->n[0] * fr->n[1];
+  fr->ps   = ntot;
   if (!fr->A) PetscCall(PetscMalloc1(ntot * fr->np, &fr->A));
-  if (!C->sS) PetscCall(PetscMalloc2(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP));
+  if (!C->sS) PetscCall(PetscCalloc4(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sFd, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
   {
     const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
-    const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst;
+    const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst, ps = fr->ps;
     const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
     const PetscReal    Vc = C->Vc, *U = C->u, *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
     const short       *Sole = C->sole;
-    PetscReal         *A = fr->A, *sS = C->sS;
+    PetscReal         *A = fr->A, *sS = C->sS, *sFd = C->sFd, *sM = C->sM;
     short             *sP = C->sP;
     for (k = 0; k < n[2]; k++)
       for (j = 0; j < n[1]; j++) {
@@ -102,14 +145,25 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
           const PetscInt   ci = cr + PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), sole = Sole[ci]; /* PSCellIdx */
           const PetscReal *u = &U[ms * ci], V = XV[ci];
           PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
-          PetscInt         m0, m1;
+          PetscInt         m0, m1, b;
+          /* a run of a gas's cells inside the ghosted row (not its copies
+             outside): FractionsRun, the same values in SIMD lanes */
+          if (lanes && sole >= 0 && i >= 1) {
+            for (b = i + 1; b < n[0] - 1 && Sole[ci + b - i] == sole; b++) {}
+            if (b - i >= 4) {
+              FractionsRun(C, sole, ci, b - i, a, ps, w, W);
+              i = b - 1;
+              continue;
+            }
+          }
           /* a cell with one material with mass: its density and the advected
              quantities per unit mass, which the faces around it read three
              times a sweep (donor, and neighbour of each side's donor) */
           if (sole >= 0) {
             const PetscReal *blk = &u[sole * mst];
             PetscReal       *sp  = &sS[(ms - 1) * ci];
-            sp[0] = blk[PS_CM] / blk[PS_CV];
+            sp[0]  = blk[PS_CM] / blk[PS_CV];
+            sM[ci] = blk[PS_CM];
             if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
             else
               for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
@@ -123,22 +177,24 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
              0 changed no sum), and their planes are not read.  With them the
              material that fills the cell alone, for the faces' fast path
              (FaceRun): none in a cell of several or none, or with markers or
-             void above round-off (a[0], 1 - a[nm]).  (A copy outside the
+             void above round-off (A_0, 1 - A_nm).  (A copy outside the
              ghosted cells writes its nearest cell's value again: the same) */
           if (sole >= 0) { /* (the loop below for one material, without its test per material) */
             const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + u[sole * mst + PS_CV] * iV, 1.0);
-            for (m = 0; m < sole; m++) a[1 + m] = a1;
-            for (; m < nm; m++) a[1 + m] = a2; /* (a[nm] = a2) */
-            sP[ci] = (short)(acc <= 1e-12 && 1.0 - a2 <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1);
+            for (m = 0; m < sole; m++) a[(1 + m) * ps] = a1;
+            for (; m < nm; m++) a[(1 + m) * ps] = a2; /* (a[nm] = a2) */
+            sP[ci]  = (short)(acc <= 1e-12 && 1.0 - a2 <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1);
+            sFd[ci] = sP[ci];
           } else {
-            sP[ci] = -1;
+            sP[ci]  = -1;
+            sFd[ci] = -1.0;
             PSCellsSoleRange(sole, nm, &m0, &m1);
             for (m = 0; m < nm; m++) {
               if (m >= m0 && m < m1) acc += u[m * mst + PS_CV] * iV;
-              a[1 + m] = PetscMin(acc, 1.0);
+              a[(1 + m) * ps] = PetscMin(acc, 1.0);
             }
           }
-          a[nm + 1] = 1.0;
+          a[(nm + 1) * ps] = 1.0;
         }
       }
   }
@@ -151,7 +207,10 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d)
       hi[d] = lo[d] + 1;
       for (l[2] = lo[2]; l[2] < hi[2]; l[2]++)
         for (l[1] = lo[1]; l[1] < hi[1]; l[1]++)
-          for (l[0] = lo[0]; l[0] < hi[0]; l[0]++) C->sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1;
+          for (l[0] = lo[0]; l[0] < hi[0]; l[0]++) {
+            C->sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]]  = -1;
+            C->sFd[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1.0;
+          }
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -180,8 +239,8 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
   for (m = 0; m < nm; m++) vol[m] = 0.0;
   /* the participants present in the donor (fraction above round-off) */
   for (k = 0; k < fr->np; k++) {
-    const PetscReal ak = a[k] - prev;
-    prev = a[k];
+    const PetscReal ak = a[k * fr->ps] - prev;
+    prev = a[k * fr->ps];
     if (ak <= 1e-12) continue;
     PetscCheckAbort(np < PS_PLIC_MAXMAT, PETSC_COMM_SELF, PETSC_ERR_SUP, "more than %d participants in a cell", PS_PLIC_MAXMAT);
     part[np]  = k;
@@ -198,7 +257,7 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
   }
   for (k = 0; k < 3; k++) h[k] = k < dim ? S->h[k] : 1.0;
   h[d] = V / A; /* the donor's current extent along the sweep */
-  for (k = 0; k + 1 < np; k++) PSPlicYoungsNormal(dim, a + part[k], fr->s[0], fr->s[1], fr->s[2], S->h, nrm[k]);
+  for (k = 0; k + 1 < np; k++) PSPlicYoungsNormal(dim, a + part[k] * fr->ps, fr->s[0], fr->s[1], fr->s[2], S->h, nrm[k]);
   if (PSPlicReconstruct(dim, h, np, alpha, (const double(*)[3])nrm, &cell) || PSPlicSlabVolumes(&cell, d, side, w, pv)) {
     /* a clipper overflow (never seen): the volume fractions' shares */
     for (k = 0; k < np; k++) pv[k] = alpha[k] * w * A;
@@ -298,7 +357,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
      it the whole slab, as SlabVolumes does (the same value, without its
      search of the participants); else a pure donor's one, or all (vol 0 skips) */
   s = C->sole[uc];
-  if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm] <= 1e-12) {
+  if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm * fr->ps] <= 1e-12) {
     vol[s] = w * Vd / A * A;
     m0     = s;
   } else m0 = SlabVolumes(S, fr, fa, Vd, d, (PetscInt)side, w * Vd / A, vol);
@@ -352,6 +411,53 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   }
 }
 
+/* FaceRun's arithmetic for a face whose donor and both its neighbours
+   along d are filled by one material, for the faces k in [ka, kb) of a run
+   (o0: face 0's lower node, u0 the cell above it, jd0 its index along d, jx
+   1 along x, else 0), into W (plane PS_FL_* of length w).  The same values,
+   without a branch: the face's two possible donors (the cells below and
+   above it) and their neighbours are all loaded (FractionsBuild's planes:
+   sFd, the material that fills a cell as a real; sM its mass; sS its
+   density and e), and chosen by the sign of the face's displacement; a face
+   that FaceRun's test would send elsewhere has the flag 0.  Gas blocks
+   only (ms = PS_CQ), on ghosted cells k - 2 cd .. k + cd */
+enum { PS_FL_FLAG, PS_FL_POS, PS_FL_FA, PS_FL_FV, PS_FL_FM, PS_FL_FE, PS_FL_FT, PS_FL_N };
+static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const PetscReal *v, PetscInt d, PetscInt s1, PetscInt s2, PetscInt o0, PetscInt u0, PetscInt jd0, PetscInt jx, PetscInt cd, PetscReal A, PetscReal hdt, PetscInt ka, PetscInt kb, PetscInt w, PetscReal *W)
+{
+  const PetscReal *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS, *sFd = C->sFd, *sM = C->sM;
+  const PetscInt   nc = C->nc[d];
+  PetscInt         k;
+
+#pragma GCC ivdep
+  for (k = ka; k < kb; k++) {
+    const PetscInt o = o0 + k, uN = u0 + k, uP = uN - cd, jd = jd0 + jx * k; /* donor uP (below) where delta > 0, else uN */
+    PetscReal      delta;
+    if (dim == 3) delta = 0.0 + v[dim * o + d] + v[dim * (o + s1) + d] + v[dim * (o + s2) + d] + v[dim * (o + s1 + s2) + d];
+    else delta = 0.0 + v[dim * o + d] + v[dim * (o + s1) + d];
+    delta *= hdt;
+    const PetscBool pos = delta > 0.0;
+    /* the four cells' fill (-1: none), density and e: below the lower donor, the two donors, above the upper */
+    const PetscReal f0 = sFd[uP - cd], f1 = sFd[uP], f2 = sFd[uN], f3 = sFd[uN + cd];
+    const PetscReal r0 = sS[2 * (uP - cd)], r1 = sS[2 * uP], r2 = sS[2 * uN], r3 = sS[2 * (uN + cd)];
+    const PetscReal e0 = sS[2 * (uP - cd) + 1], e1 = sS[2 * uP + 1], e2 = sS[2 * uN + 1], e3 = sS[2 * (uN + cd) + 1];
+    const PetscReal fd = pos ? f1 : f2, fm = pos ? f0 : f1, fp = pos ? f2 : f3; /* the donor's and its neighbours' */
+    const PetscReal rb = pos ? r0 : r1, rho = pos ? r1 : r2, ra = pos ? r2 : r3;
+    const PetscReal eb = pos ? e0 : e1, ed = pos ? e1 : e2, ea = pos ? e2 : e3;
+    const PetscReal V = pos ? XV[uP] : XV[uN], M = pos ? sM[uP] : sM[uN];
+    const PetscReal w1 = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w1 * V / A * A;
+    const PetscReal side = pos ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w1);
+    const PetscReal dM = PetscMin(PetscMax(vol * (rho + off * VanLeerLanes(rho - rb, ra - rho)), 0.0), M);
+    const PetscBool in = pos ? jd - 1 >= 0 : jd < nc; /* the donor inside the domain */
+    W[PS_FL_FLAG * w + k] = delta != 0.0 && in && fd >= 0.0 && fm == fd && fp == fd && vol > 0.0 ? 1.0 : 0.0;
+    W[PS_FL_POS * w + k]  = pos ? 1.0 : 0.0;
+    W[PS_FL_FA * w + k]   = delta * A;
+    W[PS_FL_FV * w + k]   = side * vol;
+    W[PS_FL_FM * w + k]   = side * dM;
+    W[PS_FL_FE * w + k]   = side * dM * (ed + off * VanLeerLanes(ed - eb, ea - ed));
+    W[PS_FL_FT * w + k]   = 0.0 + side * dM;
+  }
+}
+
 /* the faces j0 + k e_x, k < n (a run along x: a slice's row, or a line along
    d = x), into F[fs k] and R[2 k].  A face whose donor and both its
    neighbours along d are filled by one material (nearly every face of a
@@ -369,12 +475,45 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
   const short        *fill = C->sP;
   const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d], spcd = sp * cd;
   const PetscReal    *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS; /* (in locals, with the neighbours' offset in sS) */
-  PetscInt            k, q;
+  const PetscInt      nw = ix->gm[0]; /* (W's plane length: C->sW's) */
+  PetscReal          *W  = C->sW;
+  PetscInt            k, q, ka = 0, kb = 0;
 
+  /* a gas's faces in SIMD lanes where the cells two below to one above each
+     face are in the ghosted array (FaceRunLanes); then each face in order,
+     a face the lanes took from their planes */
+  if (ms == PS_CQ && S->run.lanes != 1) {
+    if (d == 0) {
+      ka = PetscMax(C->gs[0] + 2 - j0[0], 0);
+      kb = PetscMin(C->gs[0] + C->gm[0] - 1 - j0[0], n);
+    } else if (j0[d] - 2 >= C->gs[d] && j0[d] + 1 <= C->gs[d] + C->gm[d] - 1) kb = n;
+    kb = PetscMax(kb, ka);
+    {
+      /* (a run with few cells filled by one material, under a quarter: the
+         lanes would find little, and cost more than they save) */
+      PetscInt nf = 0;
+      for (k = ka; k < kb; k++) nf += fill[u0 + k] >= 0;
+      if (4 * nf < kb - ka) kb = ka;
+    }
+    FaceRunLanes(C, dim, v, d, sw->s1, sw->s2, o0, u0, j0[d], d == 0 ? 1 : 0, cd, A, hdt, ka, kb, nw, W);
+  }
   for (k = 0; k < n; k++) {
     const PetscInt o = o0 + k;
     PetscReal      delta, *Fk = &F[fs * k];
     PetscInt       cdn, uc, s;
+    if (k >= ka && k < kb && W[PS_FL_FLAG * nw + k] != 0.0) {
+      PetscReal *Fm;
+      s               = fill[u0 + k - (W[PS_FL_POS * nw + k] != 0.0 ? cd : 0)];
+      Fm              = &Fk[s * ms];
+      Fk[nm * ms]     = W[PS_FL_FA * nw + k];
+      Fm[PS_CV]       = W[PS_FL_FV * nw + k];
+      Fm[PS_CM]       = W[PS_FL_FM * nw + k];
+      Fm[PS_CE]       = W[PS_FL_FE * nw + k];
+      Fk[nm * ms + 1] = W[PS_FL_FT * nw + k];
+      R[2 * k]        = s;
+      R[2 * k + 1]    = s + 1;
+      continue;
+    }
     /* the face's displacement (FaceFlux's sum, from 0) */
     if (dim == 3) delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d] + v[dim * (o + sw->s2) + d] + v[dim * (o + sw->s1 + sw->s2) + d];
     else delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d];
@@ -842,7 +981,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   R  = C->sR;
   K  = C->sK;
   VL = C->sVL;
-  PetscCall(FractionsBuild(C, fr, d));
+  PetscCall(FractionsBuild(C, fr, d, ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE, PetscMax(ix->gm[0], C->gm[0]), C->sW));
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
      upper corner nodes, added into P; free faces let the nodes' share out.
      Velocities (VL) and kinetic energies (K) before the sweep, over every
