@@ -60,6 +60,29 @@ static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal 
    wrote 96 bytes per cell, now 24), in the order of the cells; every
    reader takes [m0, m1) (PSCellsPresent), which the remap and the fit
    alone change. */
+/* PSCellsPressure's ideal gas and EOSCache's compliance for a run of len
+   cells c0 + x of one gas s (gamma g), its slots ec (PS_EC reals apart:
+   consecutive, each cell one), in SIMD lanes: the same operations, a
+   divisor 1 where the value is not used (a block without mass or volume
+   gets zeros, as in the loop) */
+static inline void EOSGasRun(const PSCells *C, PetscInt s, PetscReal g, PetscInt c0, PetscInt len, PetscReal *ec)
+{
+  const PetscReal *blk = &C->u[PS_CQ * c0 + s * C->mst];
+  PetscInt         x;
+
+#pragma GCC ivdep
+  for (x = 0; x < len; x++) {
+    const PetscReal V = blk[PS_CQ * x + PS_CV], M = blk[PS_CQ * x + PS_CM], E = blk[PS_CQ * x + PS_CE];
+    const int       ok = (M > 0.0) & (V > 0.0); /* (&, not &&: no branch, or GCC keeps the loop scalar) */
+    const PetscReal Vd = ok ? V : 1.0, Md = ok ? M : 1.0;
+    const PetscReal p = (g - 1.0) * E / Vd, c = PetscSqrtReal(g * PetscMax(p, 0.0) * Vd / Md);
+    const PetscReal chi = Vd * Vd / (Md * PetscMax(c * c, 1e-6));
+    ec[PS_EC * x]     = ok ? p : 0.0;
+    ec[PS_EC * x + 1] = ok ? c : 0.0;
+    ec[PS_EC * x + 2] = ok ? chi : 0.0;
+  }
+}
+
 PetscErrorCode PSCellsEOSCache(PSSolver *S)
 {
   PSCells *C = S->cells;
@@ -94,26 +117,41 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
     PetscCall(PetscCalloc1(PS_EC * C->nec, &C->ec));
     PetscCall(PetscCalloc1(PSCellsHalfMat(C) * C->nec, &C->hm));
   }
-  /* the cells around the owned nodes (PSCellsXIdx): their forces on them */
-  n = 0;
-  for (k = C->xs[2]; k < C->ce[2]; k++)
-    for (j = C->xs[1]; j < C->ce[1]; j++)
-      for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
-        const PetscInt   ci = PSCellIdx(C, i, j, k);
-        const PetscReal *u  = &C->u[C->ms * ci];
-        PetscReal       *ecn = PSCellsEC(C, n);
-        PSCellsPresent(C, ci, &m0, &m1);
-        for (m = m0; m < m1; m++) {
-          const PetscReal *blk = &u[m * C->mst];
-          PetscReal       *ec  = &ecn[PS_EC * m];
-          if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
-            ec[0] = ec[1] = ec[2] = 0.0;
-            continue;
+  /* the cells around the owned nodes (PSCellsXIdx): their forces on them;
+     a run of an ideal gas's pure cells (no shear modulus) in lanes */
+  {
+    PetscBool gas[PS_MAX_CELLMAT];
+    for (m = 0; m < C->nmat; m++) gas[m] = C->gasf[m] && S->mat[C->mat[m]].G == 0.0 && C->ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE;
+    n = 0;
+    for (k = C->xs[2]; k < C->ce[2]; k++)
+      for (j = C->xs[1]; j < C->ce[1]; j++)
+        for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
+          const PetscInt   ci = PSCellIdx(C, i, j, k), s = C->sole[ci];
+          const PetscReal *u  = &C->u[C->ms * ci];
+          PetscReal       *ecn = PSCellsEC(C, n);
+          if (s >= 0 && gas[s]) {
+            PetscInt b = i + 1;
+            while (b < C->ce[0] && C->sole[ci + b - i] == s) b++;
+            if (b - i >= 4) {
+              EOSGasRun(C, s, S->mat[C->mat[s]].gamma, ci, b - i, &ecn[PS_EC * s]); /* (a pure cell's one slot: the run's are consecutive) */
+              n += b - i - 1;
+              i = b - 1;
+              continue;
+            }
           }
-          PetscCall(PSCellsPressure(S, m, blk, &ec[0], &ec[1]));
-          ec[2] = blk[PS_CV] * blk[PS_CV] / (blk[PS_CM] * PetscMax(ec[1] * ec[1], 1e-6)); /* V / (rho c^2); a cold gas at p = 0: very compliant, still finite */
+          PSCellsPresent(C, ci, &m0, &m1);
+          for (m = m0; m < m1; m++) {
+            const PetscReal *blk = &u[m * C->mst];
+            PetscReal       *ec  = &ecn[PS_EC * m];
+            if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
+              ec[0] = ec[1] = ec[2] = 0.0;
+              continue;
+            }
+            PetscCall(PSCellsPressure(S, m, blk, &ec[0], &ec[1]));
+            ec[2] = blk[PS_CV] * blk[PS_CV] / (blk[PS_CM] * PetscMax(ec[1] * ec[1], 1e-6)); /* V / (rho c^2); a cold gas at p = 0: very compliant, still finite */
+          }
         }
-      }
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
