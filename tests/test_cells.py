@@ -377,15 +377,18 @@ def test_lagrangian_phase_is_energy_compatible(tmpdir_mpi, dim, n):
                       f"total energy within {drift:.1e}, {rest:.1e} without the fit's booked work")
 
 
-def cells_after(scene, comm, steps):
+def cells_after(scene, comm, steps, books=None):
     """The whole grid's cell state (nz, ny, nx, dof) and cell nodes (mass and
     momentum) after `steps` steps of scene run on comm; every rank of comm
-    gets them (small grids only)."""
+    gets them (small grids only).  books: a list that takes the solver's
+    totals (with the remap's heat and what was lost)."""
     from petsc4py import PETSc
     S = core.make_solver(core.initialize(scene, comm=comm))
     for _ in range(steps):
         S.step()
     c, nd = S.cells(), S.cell_nodes()
+    if books is not None:
+        books.append(S.totals())
     parts = comm.tompi4py().allgather(((c["start"], c["state"]), (nd["start"], nd["nodes"])))
     out = []
     for q in range(2):
@@ -458,18 +461,20 @@ def test_cell_lanes_are_bitwise_the_scalar_loops(dim, disk):
     predictor's and the Lagrangian phase's PredictGasLanes and
     LagrangeGasLanes, the remap's DualFluxLanes and DualFluxNodes) with the
     scalar loops' arithmetic in their order; -run_lanes 1 sends every cell
-    through the scalar loops.  The scene of the ranks' test (gases, a charge
-    expanding in moving air; with a disk with strength, which keeps the P2G
-    to its scalar loop, and without) ends bitwise the same both ways on two
-    ranks, every cell and node."""
+    through the scalar loops; so do the remap's FaceRunLanes, FractionsRun,
+    CellUpdateLanes and heat runs, and the EOS cache's EOSGasRun.  The scene
+    of the ranks' test (gases, a charge expanding in moving air; with a disk
+    with strength, which keeps the P2G to its scalar loop, and without) ends
+    bitwise the same both ways on two ranks, every cell and node, and the
+    books (the remap's heat, what was lost, the totals)."""
     from petsc4py import PETSc
     scene = gases_and_a_disk(dim, disk)
     steps = 40 if dim == 2 else 20
-    out = []
+    out, books = [], []
     for lanes in (4, 1):
         PETSc.Options().setValue("run_lanes", lanes)
         try:
-            out.append(cells_after(scene, PETSc.COMM_WORLD, steps))
+            out.append(cells_after(scene, PETSc.COMM_WORLD, steps, books))
         finally:
             PETSc.Options().delValue("run_lanes")
     ((u4, n4), k4), ((u1, n1), k1) = out
@@ -478,6 +483,8 @@ def test_cell_lanes_are_bitwise_the_scalar_loops(dim, disk):
     assert np.abs(u4 - u0).max() > 0.0
     diff = int((u4 != u1).sum() + (n4 != n1).sum())
     assert diff == 0, f"{diff} values of the cells and their nodes differ between the lanes and the scalar loops"
+    assert books[0]["remap_heat"] != 0.0
+    assert books[0] == books[1], f"the books differ between the lanes and the scalar loops: {books}"
 
 
 @pytest.mark.parametrize("change,path,words", [

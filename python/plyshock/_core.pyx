@@ -139,7 +139,7 @@ cdef extern from "solver.h":
         PetscBool aniso
         PSPly ply
     ctypedef struct PSTotals:
-        PetscReal mass, kinetic, internal, lost_mass, lost_energy, max_pressure, friction_work, interface_energy
+        PetscReal mass, kinetic, internal, lost_mass, lost_energy, max_pressure, friction_work, interface_energy, remap_heat, coupling_work
         PetscReal p[3]
         PetscReal lost_p[3]
         PetscInt64 markers, lost_markers
@@ -502,7 +502,8 @@ cdef class Solver:
         return dict(mass=T.mass, p=[T.p[0], T.p[1], T.p[2]], kinetic=T.kinetic, internal=T.internal,
                     lost_mass=T.lost_mass, lost_p=[T.lost_p[0], T.lost_p[1], T.lost_p[2]], lost_energy=T.lost_energy,
                     max_pressure=T.max_pressure, markers=T.markers, lost_markers=T.lost_markers,
-                    friction_work=T.friction_work, interface_energy=T.interface_energy)
+                    friction_work=T.friction_work, interface_energy=T.interface_energy,
+                    remap_heat=T.remap_heat, coupling_work=T.coupling_work)
 
     def set_contact(self, fields, split, nfield, mu, coh, cohp):
         """Velocity fields of the bodies (field of each body, -1 for bodies in

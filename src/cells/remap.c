@@ -1197,6 +1197,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     const PetscReal *Mcell = C->Mcell; /* after the sweep (PSCellsNodalMass above) */
     const short     *sole  = C->sole;
     PetscReal       *U = C->u, heat = C->remap_heat; /* (the same sum, in a register) */
+    const PetscBool  lanes = ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE;
     PetscInt         off[8], c;
     for (c = 0; c < (1 << dim); c++) off[c] = C->K.off[c];
     for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
@@ -1206,7 +1207,30 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
         for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
           const PetscInt ci = ci0 + i[0], o0 = o00 + i[0];
           PetscReal     *u = &U[ms * ci], Mc = Mcell[ci], dE = 0.0;
-          PetscInt       m0, m1;
+          PetscInt       m0, m1, b;
+          /* a run of cells of one gas s (with mass: M_c = M_s): their heat in
+             SIMD lanes, its sum in the cells' order after them */
+          if (lanes && sole[ci] >= 0) {
+            const PetscInt s = sole[ci];
+            for (b = i[0] + 1; b < C->ce[0] && sole[ci0 + b] == s; b++) {}
+            if (b - i[0] >= 4) {
+              const PetscInt   len = b - i[0];
+              PetscReal       *B   = &U[PS_CQ * ci + s * mst], *W = C->sW;
+              const PetscReal *Mr  = &Mcell[ci], *Kr = &K[o0];
+              PetscInt         x;
+#pragma GCC ivdep
+              for (x = 0; x < len; x++) {
+                PetscReal dEx = 0.0;
+#pragma GCC unroll 8
+                for (c = 0; c < (1 << dim); c++) dEx += Kr[x + off[c]];
+                B[PS_CQ * x + PS_CE] = B[PS_CQ * x + PS_CE] + dEx * B[PS_CQ * x + PS_CM];
+                W[x]                 = dEx * Mr[x];
+              }
+              for (x = 0; x < len; x++) heat += W[x];
+              i[0] = b - 1;
+              continue;
+            }
+          }
           if (Mc <= 0.0) continue;
           /* (a node without mass holds d_i = 0: above, and its owner's value
              on the ghosts) */
