@@ -131,6 +131,33 @@ static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n
   PetscInt         l, ng = 0;
   for (l = 0; l < nr; l++) {
     const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0, e = s >= 0 ? eco[n0 + l] + s : 0;
+    /* a run of cells of one gas block (V, M, E): strided copies in SIMD
+       lanes (their EOS slots are consecutive, a pure cell's one each) */
+    if (s >= 0 && ms == PS_CQ) {
+      PetscInt b;
+      for (b = l + 1; b < nr && sole[ci + b - l] == s; b++) {}
+      if (b - l >= 4) {
+        const PetscInt   len = b - l;
+        const PetscReal *Ub = &U[PS_CQ * ci + mst * s], *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s], gf = gasf[s] ? 1.0 : 0.0;
+        PetscReal       *Ir = &In[l];
+        PetscInt         x;
+#pragma GCC ivdep
+        for (x = 0; x < len; x++) {
+          Ir[PS_GI_M * w + x]   = Ub[PS_CQ * x + PS_CM];
+          Ir[PS_GI_V * w + x]   = Ub[PS_CQ * x + PS_CV];
+          Ir[PS_GI_E * w + x]   = Ub[PS_CQ * x + PS_CE];
+          Ir[PS_GI_EC0 * w + x] = Eb[PS_EC * x];
+          Ir[PS_GI_EC1 * w + x] = Eb[PS_EC * x + 1];
+          Ir[PS_GI_EC2 * w + x] = Eb[PS_EC * x + 2];
+          Ir[PS_GI_PK * w + x]  = Hb[hmat * x];
+          Ir[PS_GI_G * w + x]   = g;
+          Ir[PS_GI_GAS * w + x] = gf;
+        }
+        ng += gasf[s] ? len : 0;
+        l = b - 1;
+        continue;
+      }
+    }
     const PetscReal *blk = &U[ms * ci + mst * ss];
     In[PS_GI_M * w + l]   = blk[PS_CM];
     In[PS_GI_V * w + l]   = blk[PS_CV];
