@@ -100,7 +100,7 @@ typedef struct PSCells_ {
   PetscBool dep_dirty;            /* dep holds a discard (else it is all zero, and the fit need not zero it) */
   PetscReal *sF, *sK, *sVL, *sA;  /* the remap's scratch (remap.c), kept between steps; sK and sVL (one and dim per local node; the remap's sVL in dim planes of nnl) from the start: the cells' P2G takes sVL before the remap */
   PetscReal *sdP;                 /* the remap's KE fix: the momentum cut on a row of owned nodes, dim per node */
-  PetscReal *sW;                  /* the remap's dual fluxes on a run of cells: per node column, dim planes of phi v_f and one of phi v_f^2 / 2, then a plane of flags (the cell's mid-plane carries anything), a run's length each; the Lagrangian phases' lanes use up to 11 + 2^dim dim (the P2G's, lagrange.c) */
+  PetscReal *sW;                  /* the remap's dual fluxes on a run of cells: per node column, dim planes of phi v_f and one of phi v_f^2 / 2, then a plane of flags (the cell's mid-plane carries anything), a run's length each; the Lagrangian phases' lanes use up to 15 + 2^dim dim + nh dim (the predictor's, lagrange.c) */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
   PetscReal *sFd, *sM;            /* per ghosted cell: sP as a real, and its one material's mass where sP >= 0 (FractionsBuild), for the faces' lanes (FaceRunLanes) */

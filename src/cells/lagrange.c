@@ -45,7 +45,7 @@
   no void, no deviator) in SIMD lanes first (ToGridGasLanes,
   PredictGasLanes, LagrangeGasLanes: the same arithmetic in the same order,
   without a branch), then the row's loop takes their values and does the
-  rest (P2G's corners to the nodes in lanes too, ToGridGasNodes, in the
+  rest (P2G's corners to the nodes in lanes too, GasLanesNodes, in the
   loop's order; the predictor's corners' sums; every other cell whole).
   -run_lanes 1 skips the lanes, for checks (bitwise the same).
 */
@@ -256,43 +256,50 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
   }
 }
 
-/* ToGridGasLanes's corner masses and forces of the row's lane cells [l0, l1)
-   to the grid's nodes g (dof per node: the mass, the force at fo), in
-   PSCellsToGridDim's order: a node of the run takes the corner B (one along x
-   beyond A) of cell l - 1, then the corner A of cell l, each where own (the
-   row's owned corners) has it; the pairs of corners (A, B) in SIMD lanes */
-static inline void ToGridGasNodes(const PetscInt dim, const PSCorners *K, PetscInt o0, PetscInt own, PetscInt l0, PetscInt l1, PetscInt dof, PetscInt fo, PetscInt w, const PetscReal *W, PetscReal *g)
+/* the corner masses and forces of a row's lane cells [l0, l1) (ToGridGasLanes',
+   or the predictor's force changes, PredictGasLanes') to the nodes g (dof
+   per node: the mass at 0, the force at fo), in the cells' loops' order: a
+   node of the run takes the corner B (one along x beyond A) of cell l - 1,
+   then the corner A of cell l, each where own (the row's owned corners) has
+   it; the pairs of corners (A, B) in SIMD lanes.  Mq: the corner masses'
+   plane (NULL: none); Fq: corner a's component d in plane a dim + d, of w
+   reals each */
+static inline void GasLanesNodes(const PetscInt dim, const PSCorners *K, PetscInt o0, PetscInt own, PetscInt l0, PetscInt l1, PetscInt dof, PetscInt fo, PetscInt w, const PetscReal *Mq, const PetscReal *Fq, PetscReal *g)
 {
   const PetscInt nco = 1 << dim;
   PetscInt       A, l, d;
 
   for (A = 0; A < nco; A += 2) {
-    const PetscInt   B = A + 1, oA = o0 + K->off[A];
-    const PetscBool  fA = (own >> A) & 1, fB = (own >> B) & 1;
-    const PetscReal *Mq = &W[PS_GL_MC * w];
-    PetscReal       *gA = &g[dof * oA];
+    const PetscInt  B = A + 1, oA = o0 + K->off[A];
+    const PetscBool fA = (own >> A) & 1, fB = (own >> B) & 1;
+    PetscReal      *gA = &g[dof * oA];
     /* (node oA + l: cell l - 1's corner B (oA + l = o0 + (l - 1) + off[B]), then cell l's A) */
     if (fA) {
-      gA[dof * l0] += Mq[l0];
-      for (d = 0; d < dim; d++) gA[dof * l0 + fo + d] += W[(PS_GL_F + A * dim + d) * w + l0];
+      if (Mq) gA[dof * l0] += Mq[l0];
+      for (d = 0; d < dim; d++) gA[dof * l0 + fo + d] += Fq[(A * dim + d) * w + l0];
+    }
+    if (Mq) {
+#pragma GCC ivdep
+      for (l = l0 + 1; l < l1; l++) {
+        PetscReal m = gA[dof * l];
+        if (fB) m = m + Mq[l - 1];
+        if (fA) m = m + Mq[l];
+        gA[dof * l] = m;
+      }
     }
 #pragma GCC ivdep
     for (l = l0 + 1; l < l1; l++) {
-      PetscReal m = gA[dof * l];
-      if (fB) m = m + Mq[l - 1];
-      if (fA) m = m + Mq[l];
-      gA[dof * l] = m;
 #pragma GCC unroll 3
       for (d = 0; d < dim; d++) {
         PetscReal f = gA[dof * l + fo + d];
-        if (fB) f = f + W[(PS_GL_F + B * dim + d) * w + l - 1];
-        if (fA) f = f + W[(PS_GL_F + A * dim + d) * w + l];
+        if (fB) f = f + Fq[(B * dim + d) * w + l - 1];
+        if (fA) f = f + Fq[(A * dim + d) * w + l];
         gA[dof * l + fo + d] = f;
       }
     }
     if (fB) {
-      gA[dof * l1] += Mq[l1 - 1];
-      for (d = 0; d < dim; d++) gA[dof * l1 + fo + d] += W[(PS_GL_F + B * dim + d) * w + l1 - 1];
+      if (Mq) gA[dof * l1] += Mq[l1 - 1];
+      for (d = 0; d < dim; d++) gA[dof * l1 + fo + d] += Fq[(B * dim + d) * w + l1 - 1];
     }
   }
 }
@@ -342,7 +349,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
           const PetscInt l0 = i - C->xs[0];
           PetscInt       l1 = l0 + 1;
           while (l1 + C->xs[0] < PetscMin(xb, C->ce[0]) && W[PS_GL_FLAG * nw + l1] != 0.0) l1++; /* (xb may lie beyond the row's cells) */
-          ToGridGasNodes(dim, &C->K, oc0 + C->xs[0], orow, l0, l1, dof, fo, nw, W, g);
+          GasLanesNodes(dim, &C->K, oc0 + C->xs[0], orow, l0, l1, dof, fo, nw, &W[PS_GL_MC * nw], &W[PS_GL_F * nw], g);
           n += l1 - l0 - 1;
           i += l1 - l0 - 1;
           continue;
@@ -525,15 +532,16 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
    values are the predictor's, 0: the predictor's own loop takes the cell),
    q^h, the force's change of pressure -V_m (p_f^h + q^h - p_f^n - q^n), p_k^h,
    the mass M_c and the sound speed c_max (the hourglass viscosity) */
-enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_IN }; /* (then the gather's PS_GI_N) */
-static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
+enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_F }; /* (then the force changes' 2^dim dim planes, the hourglass rates' nh dim, the gather's PS_GI_N) */
+static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscBool forces, PetscInt w, PetscReal *W)
 {
   const PSCells   *C  = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
   const PetscReal *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
-  const PetscInt   nco = 1 << dim;
+  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, pg = PS_PL_F + nco * dim; /* (PSCellsHalfSize; the hourglass rates' first plane) */
   const PSCorners *K  = &C->K;
-  PetscReal       *In = &W[PS_PL_IN * w];
+  const PetscReal *HS = C->hs;
+  PetscReal       *In = &W[(pg + nh * dim) * w];
   PetscInt         l, a;
 
   if (!GasLanesGather(C, ci0, n0, i0, nr, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
@@ -570,6 +578,34 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
     W[PS_PL_PK * w + l]   = pk;
     W[PS_PL_MC * w + l]   = Mc;
     W[PS_PL_CMAX * w + l] = cmax;
+  }
+  /* without strength the force change at the corners (the loop's, for a
+     run of lane cells inside the row's owned corners): the hourglass rates
+     at v^{n+1/2*} (for the cell's slot, which holds those at t^n until the
+     loop copies them) and the change of the hourglass force and of
+     -V_m (p + q) I */
+  if (!forces) return;
+#pragma GCC ivdep
+  for (l = 0; l < nr; l++) {
+    const PetscInt   oc = oc0 + i0 + l;
+    const PetscReal *gh = &HS[hsd * (n0 + l) + 1], kap = K->khg * W[PS_PL_MC * w + l] * W[PS_PL_CMAX * w + l], ds = W[PS_PL_DSIG * w + l];
+    PetscReal        hgh[4][3];
+    PetscInt         d, e;
+    HourglassRatesDim(K, dim, oc, vh, hgh);
+#pragma GCC unroll 4
+    for (e = 0; e < nh; e++)
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) W[(pg + dim * e + d) * w + l] = hgh[e][d];
+#pragma GCC unroll 8
+    for (a = 0; a < nco; a++)
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) {
+        PetscReal fd = 0.0;
+        fd -= ds * K->gN[a][d];
+#pragma GCC unroll 4
+        for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * (hgh[e][d] - gh[dim * e + d]);
+        W[(PS_PL_F + a * dim + d) * w + l] = fd;
+      }
   }
 }
 
@@ -626,7 +662,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
-      if (lanes) PredictGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], dt, hm, nw, W);
+      if (lanes) PredictGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], dt, hm, !strength, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = ci0 + i, l = i - C->xs[0];
         const PetscReal *u  = &C->u[C->ms * ci];
@@ -635,6 +671,27 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         const PetscInt   oc = oc0 + i, own = orow & (i >= xa && i < xb ? 0xff : PSCellsOwnedAxis(ix, 0, i)); /* (its owned corners) */
         PetscReal        L[3][3], vmax, trD, dVh, dVk[PS_MAX_CELLMAT], Mc, Vm, cmax, Vh = 0.0, sc = 0.0, sp = 0.0, dsig[3][3] = {{0}}, hgh[4][3], hg0[4][3], kap;
         PetscInt         m0, m1;
+        if (lanes && !strength && i >= xa && i < xb && W[PS_PL_FLAG * nw + l] != 0.0) {
+          /* a run of the lanes' cells whose corners are the row's owned ones
+             (without strength): each one's p_k^h, q^h and hourglass rates
+             from the lanes, their force changes to the nodes in lanes, in
+             this loop's order (GasLanesNodes) */
+          const PetscInt pg = PS_PL_F + nco * dim;
+          PetscInt       l1 = l + 1, x;
+          while (l1 + C->xs[0] < PetscMin(xb, C->ce[0]) && W[PS_PL_FLAG * nw + l1] != 0.0) l1++; /* (xb may lie beyond the row's cells) */
+          for (x = l; x < l1; x++) {
+            PetscReal *pk = &PSCellsHM(C, n + x - l, hmat)[C->sole[ci + x - l] * hmat], *hx = &C->hs[hsd * (n + x - l)];
+            for (e = 1; e < hmat; e++) pk[e] = 0.0;
+            pk[0] = W[PS_PL_PK * nw + x];
+            hx[0] = W[PS_PL_QH * nw + x];
+            for (e = 0; e < nh; e++)
+              for (d = 0; d < dim; d++) hx[1 + dim * e + d] = W[(pg + dim * e + d) * nw + x];
+          }
+          GasLanesNodes(dim, &C->K, oc0 + C->xs[0], orow, l, l1, dim, 0, nw, NULL, &W[PS_PL_F * nw], C->df);
+          n += l1 - l - 1;
+          i += l1 - l - 1;
+          continue;
+        }
         if (lanes && W[PS_PL_FLAG * nw + l] != 0.0) {
           /* a cell of the lanes: their values, and what the loop below
              leaves (its material's p_k^h, q^h, the force's change) */
