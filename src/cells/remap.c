@@ -63,7 +63,8 @@ static inline PetscReal VanLeerLanes(PetscReal a, PetscReal b)
    A_k is material k's in layered cells (plic.h) and every donor has its
    3x3(x3) block.  A plane per participant (A_k of cell c at A[k ps + c]):
    a run of cells writes each plane in SIMD lanes (FractionsRun), and
-   Youngs' stencil reads one plane. */
+   Youngs' stencil reads one plane.  Void's, the last, is 1 everywhere and
+   not stored (np - 1 planes). */
 typedef struct {
   PetscInt   np;            /* participants: markers, nmat materials, void */
   PetscInt   n[3], s[3];    /* box sizes and strides (doubles) */
@@ -100,13 +101,10 @@ static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt le
     W[w + x]      = a2;
   }
   /* the materials' planes: below s none (a1), from s on s's volume (a2) */
-  for (m = 0; m <= nm; m++) {
+  for (m = 0; m < nm; m++) {
     const PetscReal *Wm = &W[m < s ? 0 : w];
     PetscReal       *am = &a0[(1 + m) * ps];
-    if (m == nm)
-      for (x = 0; x < len; x++) am[x] = 1.0;
-    else
-      for (x = 0; x < len; x++) am[x] = Wm[x];
+    for (x = 0; x < len; x++) am[x] = Wm[x];
   }
   for (x = 0; x < len; x++) sP[c0 + x] = (short)sFd[c0 + x];
 }
@@ -127,7 +125,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
   fr->s[1] = fr->n[0];
   fr->s[2] = fr->n[0] * fr->n[1];
   fr->ps   = ntot;
-  if (!fr->A) PetscCall(PetscMalloc1(ntot * fr->np, &fr->A));
+  if (!fr->A) PetscCall(PetscMalloc1(ntot * (fr->np - 1), &fr->A)); /* (void's A, 1 everywhere, is not stored: SlabVolumes) */
   if (!C->sS) PetscCall(PetscCalloc4(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sFd, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
   {
     const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
@@ -194,7 +192,6 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
               a[(1 + m) * ps] = PetscMin(acc, 1.0);
             }
           }
-          a[(nm + 1) * ps] = 1.0;
         }
       }
   }
@@ -239,8 +236,8 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
   for (m = 0; m < nm; m++) vol[m] = 0.0;
   /* the participants present in the donor (fraction above round-off) */
   for (k = 0; k < fr->np; k++) {
-    const PetscReal ak = a[k * fr->ps] - prev;
-    prev = a[k * fr->ps];
+    const PetscReal A_k = k + 1 < fr->np ? a[k * fr->ps] : 1.0, ak = A_k - prev; /* (void, the last, fills the rest: its A_k is 1, not stored) */
+    prev = A_k;
     if (ak <= 1e-12) continue;
     PetscCheckAbort(np < PS_PLIC_MAXMAT, PETSC_COMM_SELF, PETSC_ERR_SUP, "more than %d participants in a cell", PS_PLIC_MAXMAT);
     part[np]  = k;
