@@ -376,7 +376,27 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
         const PetscInt ci = ci0 + i;
         PetscReal     *u  = &C->u[ms * ci];
         PetscReal      Vm = 0.0, room = Vc * PetscMax(1.0 - XA[ci], 0.0), chi[PS_MAX_CELLMAT], pk[PS_MAX_CELLMAT], sumchi = 0.0, over;
-        PetscInt       m0, m1;
+        PetscInt       m0, m1, b;
+        /* a run of cells of one gas block: the test below in SIMD lanes,
+           the run passed over where no cell overflows (else each cell as
+           below) */
+        if (ms == PS_CQ && sole[ci] >= 0 && S->run.lanes != 1) {
+          const PetscInt s = sole[ci];
+          for (b = i + 1; b < C->ce[0] && sole[ci0 + b] == s; b++) {}
+          if (b - i >= 4) {
+            const PetscReal *B = &C->u[PS_CQ * ci + s * mst], *XAr = &XA[ci];
+            PetscInt         x, nover = 0;
+#pragma GCC ivdep
+            for (x = 0; x < b - i; x++) {
+              const PetscReal Vx = 0.0 + B[PS_CQ * x + PS_CV]; /* (s has mass: it is the cell's sole) */
+              nover += Vx - Vc * PetscMax(1.0 - XAr[x], 0.0) > 1e-12 * Vc;
+            }
+            if (!nover) {
+              i = b - 1;
+              continue;
+            }
+          }
+        }
         PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* (PSCellsPresent; the others hold no mass) */
         for (m = m0; m < m1; m++)
           if (u[m * mst + PS_CM] > 0.0) Vm += u[m * mst + PS_CV];
