@@ -64,11 +64,13 @@ static inline PetscReal VanLeerLanes(PetscReal a, PetscReal b)
    3x3(x3) block.  A plane per participant (A_k of cell c at A[k ps + c]):
    a run of cells writes each plane in SIMD lanes (FractionsRun), and
    Youngs' stencil reads one plane.  Void's, the last, is 1 everywhere and
-   not stored (np - 1 planes). */
+   not stored (np - 1 planes); nor is the markers', the first, in a scene
+   without them (0 everywhere; its plane is left unwritten). */
 typedef struct {
   PetscInt   np;            /* participants: markers, nmat materials, void */
   PetscInt   n[3], s[3];    /* box sizes and strides (doubles) */
   PetscInt   ps;            /* the planes' stride: the cells in the box */
+  PetscBool  mk;            /* the markers' plane A_0 is stored (a scene with markers; without, A_0 is 0: their share PS_CX_AM is 0 in every cell) */
   PetscInt   o[3];          /* global cell index of the box's first cell */
   PetscReal *A;             /* np planes of cumulative fractions */
 } PSFractions;
@@ -78,7 +80,7 @@ typedef struct {
    (a0: the first one's fraction A_0; planes ps apart): the divisions and
    tests in SIMD lanes, the values each material's plane takes into W's
    first two planes (of length w), then the planes in lanes too */
-static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt len, PetscReal *a0, PetscInt ps, PetscInt w, PetscReal *W)
+static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt len, PetscReal *a0, PetscInt ps, PetscBool mk, PetscInt w, PetscReal *W)
 {
   const PetscInt   nm = C->nmat;
   const PetscReal  Vc = C->Vc, *blk = &C->u[PS_CQ * c0 + s * C->mst], *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
@@ -96,11 +98,13 @@ static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt le
     sS[2 * c + 1] = Es / Ms;
     sM[c]         = Ms;
     sFd[c]        = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && Vs > 0.999 * V ? sd : -1.0;
-    a0[x]         = acc;
     W[x]          = PetscMin(acc, 1.0);
     W[w + x]      = a2;
   }
-  /* the materials' planes: below s none (a1), from s on s's volume (a2) */
+  /* the markers' plane (A_0, with markers); the materials' planes: below s
+     none (a1), from s on s's volume (a2) */
+  if (mk)
+    for (x = 0; x < len; x++) a0[x] = W[x];
   for (m = 0; m < nm; m++) {
     const PetscReal *Wm = &W[m < s ? 0 : w];
     PetscReal       *am = &a0[(1 + m) * ps];
@@ -125,11 +129,13 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
   fr->s[1] = fr->n[0];
   fr->s[2] = fr->n[0] * fr->n[1];
   fr->ps   = ntot;
+  fr->mk   = C->markers;
   if (!fr->A) PetscCall(PetscMalloc1(ntot * (fr->np - 1), &fr->A)); /* (void's A, 1 everywhere, is not stored: SlabVolumes) */
   if (!C->sS) PetscCall(PetscCalloc4(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sFd, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
   {
     const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
     const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst, ps = fr->ps;
+    const PetscBool    mk = fr->mk;
     const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
     const PetscReal    Vc = C->Vc, *U = C->u, *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
     const short       *Sole = C->sole;
@@ -149,7 +155,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
           if (lanes && sole >= 0 && i >= 1) {
             for (b = i + 1; b < n[0] - 1 && Sole[ci + b - i] == sole; b++) {}
             if (b - i >= 4) {
-              FractionsRun(C, sole, ci, b - i, a, ps, w, W);
+              FractionsRun(C, sole, ci, b - i, a, ps, mk, w, W);
               i = b - 1;
               continue;
             }
@@ -168,8 +174,8 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
           }
           /* (one division per cell, not one per participant) */
           const PetscReal iV = 1.0 / V;
-          acc  = PetscMin(XA[ci] * Vc * iV, 1.0);
-          a[0] = acc;
+          acc = PetscMin(XA[ci] * Vc * iV, 1.0);
+          if (mk) a[0] = acc;
           /* the materials present add their volume; the others hold none (a
              material without mass is zeroed where it loses it: adding their
              0 changed no sum), and their planes are not read.  With them the
@@ -236,7 +242,7 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
   for (m = 0; m < nm; m++) vol[m] = 0.0;
   /* the participants present in the donor (fraction above round-off) */
   for (k = 0; k < fr->np; k++) {
-    const PetscReal A_k = k + 1 < fr->np ? a[k * fr->ps] : 1.0, ak = A_k - prev; /* (void, the last, fills the rest: its A_k is 1, not stored) */
+    const PetscReal A_k = k + 1 < fr->np ? (k > 0 || fr->mk ? a[k * fr->ps] : 0.0) : 1.0, ak = A_k - prev; /* (void, the last, fills the rest: its A_k is 1, not stored; nor the markers' A_0 without them, 0) */
     prev = A_k;
     if (ak <= 1e-12) continue;
     PetscCheckAbort(np < PS_PLIC_MAXMAT, PETSC_COMM_SELF, PETSC_ERR_SUP, "more than %d participants in a cell", PS_PLIC_MAXMAT);
@@ -354,7 +360,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
      it the whole slab, as SlabVolumes does (the same value, without its
      search of the participants); else a pure donor's one, or all (vol 0 skips) */
   s = C->sole[uc];
-  if (s >= 0 && fa[0] <= 1e-12 && 1.0 - fa[nm * fr->ps] <= 1e-12) {
+  if (s >= 0 && (fr->mk ? fa[0] : 0.0) <= 1e-12 && 1.0 - fa[nm * fr->ps] <= 1e-12) {
     vol[s] = w * Vd / A * A;
     m0     = s;
   } else m0 = SlabVolumes(S, fr, fa, Vd, d, (PetscInt)side, w * Vd / A, vol);
