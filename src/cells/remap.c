@@ -322,7 +322,7 @@ static void SweepDirs(const PSCells *C, const PSIndex *ix, PetscInt dim, PetscIn
    the materials [R[0], R[1]) are written (a pure donor's one, or all): the
    others carry nothing, and the cell update reads no more (no zeroing of
    every material's fluxes for every face) */
-static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal *F, PetscInt *R)
+static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal *F, PetscInt ft, PetscInt *R)
 {
   const PSCells  *C = S->cells;
   const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d;
@@ -338,8 +338,8 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   for (a = 0; a < (dim == 3 ? 2 : 1); a++)
     for (b = 0; b < 2; b++) delta += v[dim * (o0 + b * sw->s1 + a * sw->s2) + d];
   delta *= dt / (dim == 3 ? 4.0 : 2.0);
-  F[nm * ms]     = delta * A;
-  F[nm * ms + 1] = 0.0;
+  F[nm * ms * ft]       = delta * A;
+  F[(nm * ms + 1) * ft] = 0.0;
   R[0] = nm; /* empty: [nm, 0), so the union of ranges is a min and a max */
   R[1] = 0;
   if (delta == 0.0) return;
@@ -375,7 +375,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     PetscReal        dM, off = side * 0.5 * (1.0 - w), rho;
     PetscBool        pure;
     if (vol[m] <= 0.0 || blk[PS_CM] <= 0.0) {
-      for (q = 0; q < ms; q++) F[m * ms + q] = 0.0;
+      for (q = 0; q < ms; q++) F[(m * ms + q) * ft] = 0.0;
       continue;
     }
     /* the density and per-unit-mass values of the donor and its
@@ -400,17 +400,17 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
       const PetscReal r0 = spn[0] ? spn[0][0] : nb[0][PS_CM] / nb[0][PS_CV], r1 = spn[1] ? spn[1][0] : nb[1][PS_CM] / nb[1][PS_CV];
       dM = PetscMin(PetscMax(vol[m] * (rho + off * VanLeer(rho - r0, r1 - rho)), 0.0), blk[PS_CM]);
     } else dM = PetscMin(vol[m] * rho, blk[PS_CM]);
-    F[m * ms + PS_CV] = side * vol[m];
-    F[m * ms + PS_CM] = side * dM;
+    F[(m * ms + PS_CV) * ft] = side * vol[m];
+    F[(m * ms + PS_CM) * ft] = side * dM;
     for (q = PS_CE; q < ms; q++) {
       PetscReal s0 = spd ? spd[q - PS_CE + 1] : blk[q] / blk[PS_CM];
       if (pure) {
         const PetscReal s1 = spn[0] ? spn[0][q - PS_CE + 1] : nb[0][q] / nb[0][PS_CM], s2 = spn[1] ? spn[1][q - PS_CE + 1] : nb[1][q] / nb[1][PS_CM];
         s0 += off * VanLeer(s0 - s1, s2 - s0);
       }
-      F[m * ms + q] = side * dM * s0;
+      F[(m * ms + q) * ft] = side * dM * s0;
     }
-    F[nm * ms + 1] += side * dM;
+    F[(nm * ms + 1) * ft] += side * dM;
   }
 }
 
@@ -470,10 +470,10 @@ static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const Pets
    (FaceFlux spent about 220 instructions on such a face, most of them on
    indices and tests); any other face (a mixed, partial or boundary donor)
    takes FaceFlux itself, which gives such a face the same values */
-static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, PetscReal *F, PetscInt *R)
+static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, PetscReal *F, PetscInt ft, PetscInt *R)
 {
   const PSCells      *C = S->cells;
-  const PetscInt      mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2, d = sw->d, cd = sw->cd, sp = ms - 1;
+  const PetscInt      mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d, cd = sw->cd, sp = ms - 1;
   const PetscReal     A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh;
   const short        *fill = C->sP;
   const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d], spcd = sp * cd;
@@ -502,17 +502,17 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
   }
   for (k = 0; k < n; k++) {
     const PetscInt o = o0 + k;
-    PetscReal      delta, *Fk = &F[fs * k];
+    PetscReal      delta, *Fk = &F[k];
     PetscInt       cdn, uc, s;
     if (k >= ka && k < kb && W[PS_FL_FLAG * nw + k] != 0.0) {
       PetscReal *Fm;
       s               = fill[u0 + k - (W[PS_FL_POS * nw + k] != 0.0 ? cd : 0)];
-      Fm              = &Fk[s * ms];
-      Fk[nm * ms]     = W[PS_FL_FA * nw + k];
-      Fm[PS_CV]       = W[PS_FL_FV * nw + k];
-      Fm[PS_CM]       = W[PS_FL_FM * nw + k];
-      Fm[PS_CE]       = W[PS_FL_FE * nw + k];
-      Fk[nm * ms + 1] = W[PS_FL_FT * nw + k];
+      Fm                    = &Fk[s * ms * ft];
+      Fk[nm * ms * ft]       = W[PS_FL_FA * nw + k];
+      Fm[PS_CV * ft]         = W[PS_FL_FV * nw + k];
+      Fm[PS_CM * ft]         = W[PS_FL_FM * nw + k];
+      Fm[PS_CE * ft]         = W[PS_FL_FE * nw + k];
+      Fk[(nm * ms + 1) * ft] = W[PS_FL_FT * nw + k];
       R[2 * k]        = s;
       R[2 * k + 1]    = s + 1;
       continue;
@@ -525,8 +525,8 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
     cdn = j0[d] + (d == 0 ? k : 0) - (delta > 0.0 ? 1 : 0);
     uc  = u0 + k - (delta > 0.0 ? cd : 0);
     if (delta == 0.0 || cdn < 0 || cdn >= nc) { /* nothing crosses, or void enters (FaceFlux's values) */
-      Fk[nm * ms]     = delta * A;
-      Fk[nm * ms + 1] = 0.0;
+      Fk[nm * ms * ft]       = delta * A;
+      Fk[(nm * ms + 1) * ft] = 0.0;
       R[2 * k]        = nm;
       R[2 * k + 1]    = 0;
       continue;
@@ -541,14 +541,14 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
         const PetscReal *spd = &sS[sp * uc], *sp0 = spd - spcd, *sp1 = spd + spcd;
         const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
         const PetscReal  dM = PetscMin(PetscMax(vol * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
-        PetscReal       *Fm = &Fk[s * ms];
-        Fk[nm * ms] = delta * A;
-        Fm[PS_CV]   = side * vol;
-        Fm[PS_CM]   = side * dM;
-        if (ms == PS_CQ) Fm[PS_CE] = side * dM * (spd[1] + off * VanLeer(spd[1] - sp0[1], sp1[1] - spd[1]));
+        PetscReal       *Fm = &Fk[s * ms * ft];
+        Fk[nm * ms * ft] = delta * A;
+        Fm[PS_CV * ft]   = side * vol;
+        Fm[PS_CM * ft]   = side * dM;
+        if (ms == PS_CQ) Fm[PS_CE * ft] = side * dM * (spd[1] + off * VanLeer(spd[1] - sp0[1], sp1[1] - spd[1]));
         else
-          for (q = 1; q < ms - 1; q++) Fm[q + 1] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
-        Fk[nm * ms + 1] = 0.0 + side * dM;
+          for (q = 1; q < ms - 1; q++) Fm[(q + 1) * ft] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
+        Fk[(nm * ms + 1) * ft] = 0.0 + side * dM;
         R[2 * k]        = s;
         R[2 * k + 1]    = s + 1;
         continue;
@@ -556,7 +556,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
     }
     {
       const PetscInt j[3] = {j0[0] + k, j0[1], j0[2]};
-      FaceFlux(S, ix, fr, dt, sw, dim, j, Fk, &R[2 * k]);
+      FaceFlux(S, ix, fr, dt, sw, dim, j, Fk, ft, &R[2 * k]);
     }
   }
 }
@@ -613,14 +613,14 @@ static inline void MidPlaneVelocity(const PetscInt dim, const PetscReal *vu, con
    the fast range has them all) and chosen by value, a divisor is 1 where the
    value is not used, so the loop runs in SIMD lanes.  CellRun then adds them
    to the nodes in DualFlux's order */
-static inline void DualFluxLanes(const PetscInt dim, const PetscReal *VL, PetscInt nv, const PetscReal *mcn, const PetscReal *Mc0, const PetscReal *Fl, const PetscReal *Fh, PetscInt fs, PetscInt o0, PetscInt sd, PetscInt s1, PetscInt s2, PetscInt ka, PetscInt kb, PetscInt w, PetscReal *W)
+static inline void DualFluxLanes(const PetscInt dim, const PetscReal *VL, PetscInt nv, const PetscReal *mcn, const PetscReal *Mc0, const PetscReal *Fl, const PetscReal *Fh, PetscInt fs, PetscInt ft, PetscInt o0, PetscInt sd, PetscInt s1, PetscInt s2, PetscInt ka, PetscInt kb, PetscInt w, PetscReal *W)
 {
   const PetscInt ncol = dim == 3 ? 4 : 2;
   PetscInt       k, c, q;
 
 #pragma GCC ivdep
   for (k = ka; k < kb; k++) {
-    const PetscReal Flo = Fl[fs * k + fs - 1], Fhi = Fh[fs * k + fs - 1], F = Flo + Fhi, Mc = Mc0[k], Md = Mc > 0.0 ? Mc : 1.0;
+    const PetscReal Flo = Fl[(fs - 1) * ft + k], Fhi = Fh[(fs - 1) * ft + k], F = Flo + Fhi, Mc = Mc0[k], Md = Mc > 0.0 ? Mc : 1.0;
     const PetscReal phi = 0.5 * F / ncol, rF = PetscMin(PetscAbsReal(F) / Md, 1.0), nu = Mc > 0.0 ? rF : 1.0, g = 0.5 * (1.0 - nu);
     const PetscBool up = phi > 0.0;
 #pragma GCC unroll 4
@@ -788,7 +788,7 @@ static inline void DiscardTrace(PSSolver *S, PetscInt m, PetscReal *b)
    first nor its last along d (no free face of the domain).  Always inline:
    GCC kept it out of line, and the call cost about 15 instructions per cell
    and sweep */
-static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, PetscBool inner, PetscReal *u, PetscReal *V, const PetscReal *fl, const PetscReal *fh, const PetscInt rl[2], const PetscInt rh[2])
+static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const PSSweepDirs *sw, const PetscInt i[3], PetscInt ci, PetscBool inner, PetscReal *u, PetscReal *V, const PetscReal *fl, const PetscReal *fh, PetscInt ft, const PetscInt rl[2], const PetscInt rh[2])
 {
   PSCells        *C = S->cells;
   const PetscInt  d = sw->d, ms = C->ms, mst = C->mst, nm = C->nmat, fs = nm * ms + 2;
@@ -807,19 +807,19 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
        gas at rest or moving across d; the general path adds its 0, and
        touches the block only if a face carries m) */
     PetscReal       *b = &u[m * mst];
-    const PetscReal *l = &fl[m * ms], *h = &fh[m * ms];
+    const PetscReal *l = &fl[m * ms * ft], *h = &fh[m * ms * ft];
     if (sl && sh) {
       if (ms == PS_CQ) { /* a block without advected strength (a gas): V, M, E unrolled (the loop, its length known only at run time, took 49 instructions for these three) */
         b[0] += l[0] - h[0];
-        b[1] += l[1] - h[1];
-        b[2] += l[2] - h[2];
+        b[1] += l[ft] - h[ft];
+        b[2] += l[2 * ft] - h[2 * ft];
       } else
-        for (q = 0; q < ms; q++) b[q] += l[q] - h[q];
+        for (q = 0; q < ms; q++) b[q] += l[q * ft] - h[q * ft];
     } else if (sl)
-      for (q = 0; q < ms; q++) b[q] += l[q] - 0.0;
+      for (q = 0; q < ms; q++) b[q] += l[q * ft] - 0.0;
     else if (sh)
-      for (q = 0; q < ms; q++) b[q] += 0.0 - h[q];
-    *V += fl[nm * ms] - fh[nm * ms];
+      for (q = 0; q < ms; q++) b[q] += 0.0 - h[q * ft];
+    *V += fl[nm * ms * ft] - fh[nm * ms * ft];
     DiscardTrace(S, m, b);
     C->Mcell[ci] = b[PS_CM]; /* (PSCellsCellMass's sum: the others add zeros) */
     C->sole[ci]  = (short)(b[PS_CM] > 0.0 ? m : PS_CELL_EMPTY);
@@ -831,9 +831,9 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
   f1 = PetscMax(rl[1], rh[1]);
   for (m = f0; m < f1; m++) {
     const PetscBool inl = m >= rl[0] && m < rl[1] ? PETSC_TRUE : PETSC_FALSE, inh = m >= rh[0] && m < rh[1] ? PETSC_TRUE : PETSC_FALSE;
-    for (q = 0; q < ms; q++) u[m * mst + q] += (inl ? fl[m * ms + q] : 0.0) - (inh ? fh[m * ms + q] : 0.0);
+    for (q = 0; q < ms; q++) u[m * mst + q] += (inl ? fl[(m * ms + q) * ft] : 0.0) - (inh ? fh[(m * ms + q) * ft] : 0.0);
   }
-  *V += fl[nm * ms] - fh[nm * ms];
+  *V += fl[nm * ms * ft] - fh[nm * ms * ft];
   /* with the materials that had mass before the sweep */
   PSCellsPresent(C, ci, &m0, &m1);
   if (m0 < m1) {
@@ -845,15 +845,15 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
   }
   for (m = m0; m < m1; m++) DiscardTrace(S, m, &u[m * mst]);
   /* outflow through free faces of the domain */
-  if (i[d] == 0 && fl[fs - 1] < 0.0)
+  if (i[d] == 0 && fl[(fs - 1) * ft] < 0.0)
     for (m = rl[0]; m < rl[1]; m++) {
-      S->lost_local.mass -= fl[m * ms + PS_CM];
-      S->lost_local.internal -= fl[m * ms + PS_CE];
+      S->lost_local.mass -= fl[(m * ms + PS_CM) * ft];
+      S->lost_local.internal -= fl[(m * ms + PS_CE) * ft];
     }
-  if (i[d] + 1 == C->nc[d] && fh[fs - 1] > 0.0)
+  if (i[d] + 1 == C->nc[d] && fh[(fs - 1) * ft] > 0.0)
     for (m = rh[0]; m < rh[1]; m++) {
-      S->lost_local.mass += fh[m * ms + PS_CM];
-      S->lost_local.internal += fh[m * ms + PS_CE];
+      S->lost_local.mass += fh[(m * ms + PS_CM) * ft];
+      S->lost_local.internal += fh[(m * ms + PS_CE) * ft];
     }
   /* its mass for the nodes (PSCellsNodalMass after the sweep; DualFlux has read the
      one before the sweep) */
@@ -866,7 +866,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
    sums in SIMD lanes, in CellUpdate's order, and DiscardTrace's test; a
    cell it flags (next to never: a trace, or a volume without mass) takes
    DiscardTrace after the lanes, in the cells' order, as CellUpdate does */
-static inline void CellUpdateLanes(PSSolver *S, PetscInt s, PetscInt u0, PetscInt k0, PetscInt k1, const PetscReal *Fl, const PetscReal *Fh, PetscInt fs, PetscInt w, PetscReal *W)
+static inline void CellUpdateLanes(PSSolver *S, PetscInt s, PetscInt u0, PetscInt k0, PetscInt k1, const PetscReal *Fl, const PetscReal *Fh, PetscInt ft, PetscReal *W)
 {
   PSCells        *C = S->cells;
   const PetscInt  ov = C->nmat * PS_CQ, os = s * PS_CQ;
@@ -877,13 +877,13 @@ static inline void CellUpdateLanes(PSSolver *S, PetscInt s, PetscInt u0, PetscIn
 #pragma GCC ivdep
   for (k = k0; k < k1; k++) {
     const PetscInt   ci = u0 + k;
-    const PetscReal *l = &Fl[fs * k + os], *h = &Fh[fs * k + os];
+    const PetscReal *l = &Fl[os * ft + k], *h = &Fh[os * ft + k];
     PetscReal       *b = &B[PS_CQ * ci];
-    const PetscReal  b0 = b[0] + (l[0] - h[0]), b1 = b[1] + (l[1] - h[1]), b2 = b[2] + (l[2] - h[2]);
+    const PetscReal  b0 = b[0] + (l[0] - h[0]), b1 = b[1] + (l[ft] - h[ft]), b2 = b[2] + (l[2 * ft] - h[2 * ft]);
     b[0]      = b0;
     b[1]      = b1;
     b[2]      = b2;
-    XV[ci]    = XV[ci] + (Fl[fs * k + ov] - Fh[fs * k + ov]);
+    XV[ci]    = XV[ci] + (Fl[ov * ft + k] - Fh[ov * ft + k]);
     Mcell[ci] = b1;
     W[k]      = !(b1 > 0.0) || b0 <= Vmin || b1 < rmin * b0 ? 1.0 : 0.0; /* (DiscardTrace's test, or a mass CellUpdate would not call s's) */
   }
@@ -905,7 +905,7 @@ static inline void CellUpdateLanes(PSSolver *S, PetscInt s, PetscInt u0, PetscIn
    depends on x only through a range, found once per run) takes DualFlux's
    arithmetic here, in its order, without its per-cell and per-column tests;
    any other takes DualFlux itself */
-static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *P, PetscReal *K)
+static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, PetscInt ft, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *P, PetscReal *K)
 {
   const PSCells  *C = S->cells;
   const PetscInt  d = sw->d, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, fs = C->nmat * C->ms + 2;
@@ -937,10 +937,10 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
   /* the fast range's dual fluxes, in SIMD lanes (a run's cells, k) */
   ka = PetscMin(PetscMax(xa - j0[0], 0), n);
   kb = PetscMin(PetscMax(xb - j0[0], ka), n);
-  DualFluxLanes(dim, VL, C->nnl, mcn, &Mcell[u0], Fl, Fh, fs, o0, sd, s1, s2, ka, kb, nw, W);
+  DualFluxLanes(dim, VL, C->nnl, mcn, &Mcell[u0], Fl, Fh, fs, ft, o0, sd, s1, s2, ka, kb, nw, W);
   for (k = 0; k < n; k++) {
-    const PetscInt   x = j0[0] + k, ci = u0 + k;
-    const PetscReal *fl = &Fl[fs * k], *fh = &Fh[fs * k], Flo = fl[fs - 1], Fhi = fh[fs - 1];
+    const PetscInt   x = j0[0] + k;
+    const PetscReal *fl = &Fl[k], *fh = &Fh[k], Flo = fl[(fs - 1) * ft], Fhi = fh[(fs - 1) * ft];
     /* the fast range's dual fluxes to the nodes, all before its first cell's
        update (the update touches no node; the cells before it have given
        theirs, the cells after it give theirs after) */
@@ -964,15 +964,15 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
       PetscInt b = k;
       while (b < n && (d == 0 ? j0[0] + b > 0 && j0[0] + b + 1 < C->nc[0] : innerd) && C->sole[u0 + b] == s && Rl[2 * b] == s && Rl[2 * b + 1] == s + 1 && Rh[2 * b] == s && Rh[2 * b + 1] == s + 1) b++;
       if (b - k >= 4) {
-        CellUpdateLanes(S, s, u0, k, b, Fl, Fh, fs, nw, W);
+        CellUpdateLanes(S, s, u0, k, b, Fl, Fh, ft, W);
         k = b - 1;
         continue;
       }
     }
     {
       const PetscInt   j[3] = {x, j0[1], j0[2]};
-      const PetscReal *fl = &Fl[fs * k], *fh = &Fh[fs * k];
-      CellUpdate(S, sw, j, ci, d == 0 ? x > 0 && x + 1 < C->nc[0] : innerd, &U[C->ms * ci], &XV[ci], fl, fh, &Rl[2 * k], &Rh[2 * k]);
+      const PetscReal *fl = &Fl[k], *fh = &Fh[k];
+      CellUpdate(S, sw, j, ci, d == 0 ? x > 0 && x + 1 < C->nc[0] : innerd, &U[C->ms * ci], &XV[ci], fl, fh, ft, &Rl[2 * k], &Rh[2 * k]);
     }
   }
 }
@@ -1086,8 +1086,8 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (j[2] = lo[2]; j[2] < hi[2]; j[2]++)
       for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
         j[0] = lo[0];
-        FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, R);
-        CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[fs], R, &R[2], VL, P, K);
+        FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, nf, R);
+        CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[1], nf, R, &R[2], VL, P, K);
       }
   } else {
     PetscInt lead, ol[3], oh[3], c;
@@ -1110,7 +1110,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
               SliceRange(d, lo, hi, j, jl, jh);
               for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
                 j[0] = jl[0];
-                FaceRun(S, ix, fr, dt, &sw, dim, j, jh[0] - jl[0], &Fs[fs * n], &Rs[2 * n]);
+                FaceRun(S, ix, fr, dt, &sw, dim, j, jh[0] - jl[0], &Fs[n], ns, &Rs[2 * n]);
               }
             }
             /* the cells of slice c = lead - 2, between faces c and c + 1 */
@@ -1123,7 +1123,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
               SliceRange(d, lo, hi, j, jl, jh);
               for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
                 j[0] = jl[0];
-                CellRun(S, ix, &sw, dim, j, jh[0] - jl[0], &Fl[fs * n], &Fh[fs * n], &Rl[2 * n], &Rh[2 * n], VL, P, K);
+                CellRun(S, ix, &sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ns, &Rl[2 * n], &Rh[2 * n], VL, P, K);
               }
             }
           }
