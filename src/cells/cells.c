@@ -385,7 +385,7 @@ PetscErrorCode PSCellsTotals(PSSolver *S, PetscReal loc[6], PetscReal *pmax)
         const PetscInt ci = PSCellIdx(C, i, j, k);
         for (m = 0; m < C->nmat; m++) {
           const PetscReal *blk = PSCellsBlk(C, ci, m);
-          PetscReal        p, c;
+          PetscReal        p = 0.0, c = 0.0; /* (set by PSCellsPressure; GCC cannot see it on its error path) */
           if (blk[PS_CM] <= 0.0) continue;
           loc[0] += blk[PS_CM];
           loc[5] += blk[PS_CE];

@@ -42,7 +42,7 @@
 /* bulk compliance chi = V / K (m^3/Pa) of a material block and its pressure */
 static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal *blk, PetscReal *chi, PetscReal *p)
 {
-  PetscReal c, rho;
+  PetscReal c = 0.0, rho; /* (c: set by PSCellsPressure; GCC cannot see it on its error path) */
 
   PetscFunctionBeginUser;
   PetscCall(PSCellsPressure(S, m, blk, p, &c));
