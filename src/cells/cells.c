@@ -163,7 +163,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->dep));
   PetscCall(PetscFree2((*C)->sF, (*C)->sR));
   PetscCall(PetscFree((*C)->sA));
-  PetscCall(PetscFree4((*C)->sS, (*C)->sP, (*C)->sFd, (*C)->sM));
+  PetscCall(PetscFree3((*C)->sS, (*C)->sP, (*C)->sM));
   PetscCall(PetscFree((*C)->ec));
   PetscCall(PetscFree((*C)->eco));
   PetscCall(PetscFree((*C)->hm));

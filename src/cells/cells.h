@@ -103,8 +103,8 @@ typedef struct PSCells_ {
   PetscReal *sW;                  /* the remap's dual fluxes on a run of cells: per node column, dim planes of phi v_f and one of phi v_f^2 / 2, then a plane of flags (the cell's mid-plane carries anything), a run's length each; the Lagrangian phases' lanes use up to 15 + 2^dim dim + nh dim (the predictor's, lagrange.c) */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
-  PetscReal *sFd, *sM;            /* per ghosted cell: sP as a real, and its one material's mass where sP >= 0 (FractionsBuild), for the faces' lanes (FaceRunLanes) */
-  short       *sP;                /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep) */
+  PetscReal *sP;                  /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep); a real, so the faces' lanes load it beside the others (FaceRunLanes) */
+  PetscReal *sM;                  /* per ghosted cell: its one material's mass where sP >= 0 (FractionsBuild; the faces' lanes) */
   PetscInt  nsF;
   PetscReal *ec;                  /* the step's EOS values of each cell around the owned nodes, PS_EC per material present only (closure.c): PSCellsEC */
   PetscReal *hm;                  /* the predictor's half-step values of each material present in those cells, PSCellsHalfMat per material (lagrange.c): PSCellsHM */
@@ -168,6 +168,17 @@ static inline PetscInt PSCellsHalfSize(const PSCells *C)
    without mass is zeroed where it loses it, remap.c and closure.c, so
    skipping it changes no sum).  Valid from PSCellsNodalMass until the
    cells' masses next change (the remap's sweeps, the fit) */
+/* the SIMD lanes' runs (lagrange.c, remap.c, closure.c): the length of the
+   run of cells sole[0 .. n) with the same sole material as the first, and
+   the shortest run the lanes take (a shorter one costs more than it saves) */
+#define PS_LANES_RUN 4
+static inline PetscInt PSCellsSoleRun(const short *sole, PetscInt n)
+{
+  PetscInt b;
+  for (b = 1; b < n && sole[b] == sole[0]; b++) {}
+  return b;
+}
+
 static inline void PSCellsSoleRange(PetscInt s, PetscInt nmat, PetscInt *m0, PetscInt *m1)
 {
   *m0 = s >= 0 ? s : 0;

@@ -51,15 +51,6 @@ static PetscErrorCode Compliance(const PSSolver *S, PetscInt m, const PetscReal 
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The materials' pressure, sound speed and compliance of each cell around
-   the owned nodes (PSCellsEC(C, PSCellsXIdx)[PS_EC m + ...]: the owned
-   cells and the ghost layer whose forces reach owned nodes), once per step
-   before the cells' P2G: the state does not change until the Lagrangian
-   phase has used them.  Stored for the materials present only (a pure
-   cell's PS_EC reals, not PS_EC nmat: the quadrants' four gases read and
-   wrote 96 bytes per cell, now 24), in the order of the cells; every
-   reader takes [m0, m1) (PSCellsPresent), which the remap and the fit
-   alone change. */
 /* PSCellsPressure's ideal gas and EOSCache's compliance for a run of len
    cells c0 + x of one gas s (gamma g), its slots ec (PS_EC reals apart:
    consecutive, each cell one), in SIMD lanes: the same operations, a
@@ -83,6 +74,15 @@ static inline void EOSGasRun(const PSCells *C, PetscInt s, PetscReal g, PetscInt
   }
 }
 
+/* The materials' pressure, sound speed and compliance of each cell around
+   the owned nodes (PSCellsEC(C, PSCellsXIdx)[PS_EC m + ...]: the owned
+   cells and the ghost layer whose forces reach owned nodes), once per step
+   before the cells' P2G: the state does not change until the Lagrangian
+   phase has used them.  Stored for the materials present only (a pure
+   cell's PS_EC reals, not PS_EC nmat: the quadrants' four gases read and
+   wrote 96 bytes per cell, now 24), in the order of the cells; every
+   reader takes [m0, m1) (PSCellsPresent), which the remap and the fit
+   alone change. */
 PetscErrorCode PSCellsEOSCache(PSSolver *S)
 {
   PSCells *C = S->cells;
@@ -130,10 +130,9 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
           const PetscReal *u  = &C->u[C->ms * ci];
           PetscReal       *ecn = PSCellsEC(C, n);
           if (s >= 0 && gas[s]) {
-            PetscInt b = i + 1;
-            while (b < C->ce[0] && C->sole[ci + b - i] == s) b++;
-            if (b - i >= 4) {
-              EOSGasRun(C, s, S->mat[C->mat[s]].gamma, ci, b - i, &ecn[PS_EC * s]); /* (a pure cell's one slot: the run's are consecutive) */
+            const PetscInt b = i + PSCellsSoleRun(&C->sole[ci], C->ce[0] - i);
+            if (b - i >= PS_LANES_RUN) {
+              EOSGasRun(C, s, C->gam[s], ci, b - i, &ecn[PS_EC * s]); /* (a pure cell's one slot: the run's are consecutive) */
               n += b - i - 1;
               i = b - 1;
               continue;
@@ -382,8 +381,8 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
            below) */
         if (ms == PS_CQ && sole[ci] >= 0 && S->run.lanes != 1) {
           const PetscInt s = sole[ci];
-          for (b = i + 1; b < C->ce[0] && sole[ci0 + b] == s; b++) {}
-          if (b - i >= 4) {
+          b = i + PSCellsSoleRun(&sole[ci], C->ce[0] - i);
+          if (b - i >= PS_LANES_RUN) {
             const PetscReal *B = &C->u[PS_CQ * ci + s * mst], *XAr = &XA[ci];
             PetscInt         x, nover = 0;
 #pragma GCC ivdep

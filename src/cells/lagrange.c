@@ -120,9 +120,11 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
    run), gamma, and 1 where the cell holds one material of C->gasf (set
    with the cells, cells.c); a cell of
    several materials or none takes zeros (its slots need not exist).
-   Returns how many cells hold one material of C->gasf */
+   Returns how many cells hold one material of C->gasf; where none does, the
+   kernel's flag plane (flag, nr reals) is zeroed, and the kernel returns:
+   the lanes' arithmetic is not worth its time there */
 enum { PS_GI_M, PS_GI_V, PS_GI_E, PS_GI_EC0, PS_GI_EC1, PS_GI_EC2, PS_GI_PK, PS_GI_G, PS_GI_GAS, PS_GI_N };
-static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n0, PetscInt i0, PetscInt nr, PetscInt w, PetscReal *In)
+static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n0, PetscInt i0, PetscInt nr, PetscInt w, PetscReal *In, PetscReal *flag)
 {
   const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm, *gam = C->gam;
   const PetscInt  *gasf = C->gasf;
@@ -134,9 +136,8 @@ static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n
     /* a run of cells of one gas block (V, M, E): strided copies in SIMD
        lanes (their EOS slots are consecutive, a pure cell's one each) */
     if (s >= 0 && ms == PS_CQ) {
-      PetscInt b;
-      for (b = l + 1; b < nr && sole[ci + b - l] == s; b++) {}
-      if (b - l >= 4) {
+      const PetscInt b = l + PSCellsSoleRun(&sole[ci], nr - l);
+      if (b - l >= PS_LANES_RUN) {
         const PetscInt   len = b - l;
         const PetscReal *Ub = &U[PS_CQ * ci + mst * s], *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s], gf = gasf[s] ? 1.0 : 0.0;
         PetscReal       *Ir = &In[l];
@@ -170,6 +171,8 @@ static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n
     In[PS_GI_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
     ng += s >= 0 && gasf[ss];
   }
+  if (!ng)
+    for (l = 0; l < nr; l++) flag[l] = 0.0;
   return ng;
 }
 
@@ -228,10 +231,7 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
   PetscReal       *HS = C->hs, *In = &W[(PS_GL_F + nco * dim) * w];
   PetscInt         l;
 
-  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
-    for (l = 0; l < nr; l++) W[PS_GL_FLAG * w + l] = 0.0;
-    return;
-  }
+  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In, &W[PS_GL_FLAG * w])) return;
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
     const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
@@ -544,10 +544,7 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
   PetscReal       *In = &W[(pg + nh * dim) * w];
   PetscInt         l, a;
 
-  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
-    for (l = 0; l < nr; l++) W[PS_PL_FLAG * w + l] = 0.0;
-    return;
-  }
+  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In, &W[PS_PL_FLAG * w])) return;
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
     const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
@@ -857,10 +854,7 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
   PetscReal       *In = &W[PS_LL_IN * w];
   PetscInt         l;
 
-  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In)) { /* (none: the lanes' arithmetic is not worth its time) */
-    for (l = 0; l < nr; l++) W[PS_LL_FLAG * w + l] = 0.0;
-    return;
-  }
+  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In, &W[PS_LL_FLAG * w])) return;
 #pragma GCC ivdep
   for (l = 0; l < nr; l++) {
     const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;

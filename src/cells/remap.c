@@ -85,8 +85,7 @@ static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt le
   const PetscInt   nm = C->nmat;
   const PetscReal  Vc = C->Vc, *blk = &C->u[PS_CQ * c0 + s * C->mst], *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
   const PetscReal  sd = s;
-  PetscReal       *sS = C->sS, *sFd = C->sFd, *sM = C->sM;
-  short           *sP = C->sP;
+  PetscReal       *sS = C->sS, *sP = C->sP, *sM = C->sM;
   PetscInt         x, m;
 
 #pragma GCC ivdep
@@ -97,7 +96,7 @@ static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt le
     sS[2 * c]     = Ms / Vs;
     sS[2 * c + 1] = Es / Ms;
     sM[c]         = Ms;
-    sFd[c]        = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && Vs > 0.999 * V ? sd : -1.0;
+    sP[c]         = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && Vs > 0.999 * V ? sd : -1.0;
     W[x]          = PetscMin(acc, 1.0);
     W[w + x]      = a2;
   }
@@ -110,7 +109,6 @@ static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt le
     PetscReal       *am = &a0[(1 + m) * ps];
     for (x = 0; x < len; x++) am[x] = Wm[x];
   }
-  for (x = 0; x < len; x++) sP[c0 + x] = (short)sFd[c0 + x];
 }
 
 static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, PetscBool lanes, PetscInt w, PetscReal *W)
@@ -131,7 +129,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
   fr->ps   = ntot;
   fr->mk   = C->markers;
   if (!fr->A) PetscCall(PetscMalloc1(ntot * (fr->np - 1), &fr->A)); /* (void's A, 1 everywhere, is not stored: SlabVolumes) */
-  if (!C->sS) PetscCall(PetscCalloc4(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sFd, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
+  if (!C->sS) PetscCall(PetscCalloc3(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
   {
     const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
     const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst, ps = fr->ps;
@@ -139,8 +137,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
     const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
     const PetscReal    Vc = C->Vc, *U = C->u, *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
     const short       *Sole = C->sole;
-    PetscReal         *A = fr->A, *sS = C->sS, *sFd = C->sFd, *sM = C->sM;
-    short             *sP = C->sP;
+    PetscReal         *A = fr->A, *sS = C->sS, *sP = C->sP, *sM = C->sM;
     for (k = 0; k < n[2]; k++)
       for (j = 0; j < n[1]; j++) {
         /* the nearest cell of the ghosted box: its row's, then along x */
@@ -153,8 +150,8 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
           /* a run of a gas's cells inside the ghosted row (not its copies
              outside): FractionsRun, the same values in SIMD lanes */
           if (lanes && sole >= 0 && i >= 1) {
-            for (b = i + 1; b < n[0] - 1 && Sole[ci + b - i] == sole; b++) {}
-            if (b - i >= 4) {
+            b = i + PSCellsSoleRun(&Sole[ci], n[0] - 1 - i);
+            if (b - i >= PS_LANES_RUN) {
               FractionsRun(C, sole, ci, b - i, a, ps, mk, w, W);
               i = b - 1;
               continue;
@@ -187,11 +184,9 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
             const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + u[sole * mst + PS_CV] * iV, 1.0);
             for (m = 0; m < sole; m++) a[(1 + m) * ps] = a1;
             for (; m < nm; m++) a[(1 + m) * ps] = a2; /* (a[nm] = a2) */
-            sP[ci]  = (short)(acc <= 1e-12 && 1.0 - a2 <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1);
-            sFd[ci] = sP[ci];
+            sP[ci] = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1;
           } else {
-            sP[ci]  = -1;
-            sFd[ci] = -1.0;
+            sP[ci] = -1.0;
             PSCellsSoleRange(sole, nm, &m0, &m1);
             for (m = 0; m < nm; m++) {
               if (m >= m0 && m < m1) acc += u[m * mst + PS_CV] * iV;
@@ -210,10 +205,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
       hi[d] = lo[d] + 1;
       for (l[2] = lo[2]; l[2] < hi[2]; l[2]++)
         for (l[1] = lo[1]; l[1] < hi[1]; l[1]++)
-          for (l[0] = lo[0]; l[0] < hi[0]; l[0]++) {
-            C->sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]]  = -1;
-            C->sFd[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1.0;
-          }
+          for (l[0] = lo[0]; l[0] < hi[0]; l[0]++) C->sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1.0;
     }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -270,8 +262,8 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
   return PS_SLAB_MIXED;
 }
 
-/* the sweeps' face scratch, kept between steps: face fluxes (nface faces of
-   fs reals) and the range of materials each face's fluxes hold (the nodal
+/* the sweeps' face scratch, kept between steps: face fluxes (fs planes of
+   nface faces) and the range of materials each face's fluxes hold (the nodal
    kinetic energy and velocity, sK and sVL, are allocated with the cells) */
 static PetscErrorCode ScratchSize(PSCells *C, PetscInt nface, PetscInt fs)
 {
@@ -318,7 +310,8 @@ static void SweepDirs(const PSCells *C, const PSIndex *ix, PetscInt dim, PetscIn
 }
 
 /* the fluxes through one face (signed, + along d); F = per material (dV, dM,
-   dE, dQ...) then the face's volume delta A and the total mass flux.  Only
+   dE, dQ...) then the face's volume delta A and the total mass flux, value
+   q at F[q ft] (the records are planes over a run's faces, ft apart).  Only
    the materials [R[0], R[1]) are written (a pure donor's one, or all): the
    others carry nothing, and the cell update reads no more (no zeroing of
    every material's fluxes for every face) */
@@ -420,14 +413,14 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
    1 along x, else 0), into W (plane PS_FL_* of length w).  The same values,
    without a branch: the face's two possible donors (the cells below and
    above it) and their neighbours are all loaded (FractionsBuild's planes:
-   sFd, the material that fills a cell as a real; sM its mass; sS its
+   sP, the material that fills a cell; sM its mass; sS its
    density and e), and chosen by the sign of the face's displacement; a face
    that FaceRun's test would send elsewhere has the flag 0.  Gas blocks
    only (ms = PS_CQ), on ghosted cells k - 2 cd .. k + cd */
 enum { PS_FL_FLAG, PS_FL_POS, PS_FL_FA, PS_FL_FV, PS_FL_FM, PS_FL_FE, PS_FL_FT, PS_FL_N };
 static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const PetscReal *v, PetscInt d, PetscInt s1, PetscInt s2, PetscInt o0, PetscInt u0, PetscInt jd0, PetscInt jx, PetscInt cd, PetscReal A, PetscReal hdt, PetscInt ka, PetscInt kb, PetscInt w, PetscReal *W)
 {
-  const PetscReal *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS, *sFd = C->sFd, *sM = C->sM;
+  const PetscReal *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS, *sP = C->sP, *sM = C->sM;
   const PetscInt   nc = C->nc[d];
   PetscInt         k;
 
@@ -440,7 +433,7 @@ static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const Pets
     delta *= hdt;
     const PetscBool pos = delta > 0.0;
     /* the four cells' fill (-1: none), density and e: below the lower donor, the two donors, above the upper */
-    const PetscReal f0 = sFd[uP - cd], f1 = sFd[uP], f2 = sFd[uN], f3 = sFd[uN + cd];
+    const PetscReal f0 = sP[uP - cd], f1 = sP[uP], f2 = sP[uN], f3 = sP[uN + cd];
     const PetscReal r0 = sS[2 * (uP - cd)], r1 = sS[2 * uP], r2 = sS[2 * uN], r3 = sS[2 * (uN + cd)];
     const PetscReal e0 = sS[2 * (uP - cd) + 1], e1 = sS[2 * uP + 1], e2 = sS[2 * uN + 1], e3 = sS[2 * (uN + cd) + 1];
     const PetscReal fd = pos ? f1 : f2, fm = pos ? f0 : f1, fp = pos ? f2 : f3; /* the donor's and its neighbours' */
@@ -462,7 +455,7 @@ static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const Pets
 }
 
 /* the faces j0 + k e_x, k < n (a run along x: a slice's row, or a line along
-   d = x), into F[fs k] and R[2 k].  A face whose donor and both its
+   d = x), into F[k] (planes ft apart: value q at F[q ft + k]) and R[2 k].  A face whose donor and both its
    neighbours along d are filled by one material (nearly every face of a
    single-material region) takes here the arithmetic of FaceFlux's loop for
    a pure donor with van Leer slopes, in its order, on FractionsBuild's
@@ -475,7 +468,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
   const PSCells      *C = S->cells;
   const PetscInt      mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d, cd = sw->cd, sp = ms - 1;
   const PetscReal     A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh;
-  const short        *fill = C->sP;
+  const PetscReal    *fill = C->sP;
   const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d], spcd = sp * cd;
   const PetscReal    *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS; /* (in locals, with the neighbours' offset in sS) */
   const PetscInt      nw = ix->gm[0]; /* (W's plane length: C->sW's) */
@@ -506,15 +499,15 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
     PetscInt       cdn, uc, s;
     if (k >= ka && k < kb && W[PS_FL_FLAG * nw + k] != 0.0) {
       PetscReal *Fm;
-      s               = fill[u0 + k - (W[PS_FL_POS * nw + k] != 0.0 ? cd : 0)];
-      Fm                    = &Fk[s * ms * ft];
+      s                      = (PetscInt)fill[u0 + k - (W[PS_FL_POS * nw + k] != 0.0 ? cd : 0)];
+      Fm                     = &Fk[s * ms * ft];
       Fk[nm * ms * ft]       = W[PS_FL_FA * nw + k];
       Fm[PS_CV * ft]         = W[PS_FL_FV * nw + k];
       Fm[PS_CM * ft]         = W[PS_FL_FM * nw + k];
       Fm[PS_CE * ft]         = W[PS_FL_FE * nw + k];
       Fk[(nm * ms + 1) * ft] = W[PS_FL_FT * nw + k];
-      R[2 * k]        = s;
-      R[2 * k + 1]    = s + 1;
+      R[2 * k]               = s;
+      R[2 * k + 1]           = s + 1;
       continue;
     }
     /* the face's displacement (FaceFlux's sum, from 0) */
@@ -533,8 +526,8 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
     }
     /* the donor and both its neighbours filled by one material s
        (FractionsBuild's C->sP: FaceFlux's tests for its slopes, and more) */
-    s = fill[uc];
-    if (s >= 0 && fill[uc - cd] == s && fill[uc + cd] == s) {
+    s = (PetscInt)fill[uc];
+    if (s >= 0 && fill[uc - cd] == fill[uc] && fill[uc + cd] == fill[uc]) {
       const PetscReal *blk = &U[ms * uc + mst * s];
       const PetscReal  V = XV[uc], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
       if (vol > 0.0) {
@@ -604,7 +597,7 @@ static inline void MidPlaneVelocity(const PetscInt dim, const PetscReal *vu, con
 
 /* DualFlux's arithmetic for the cells k in [ka, kb) of a run whose dual
    fluxes need no test (CellRun's fast range; o0: the run's first cell's
-   lower corner node, Fl, Fh its faces' flux records of fs reals, Mc0 its
+   lower corner node, Fl, Fh its faces' flux records (fs planes, ft apart), Mc0 its
    cells' masses before the sweep): per node column c (b + 2 a) the momentum
    phi v_f (dim planes) and the kinetic energy phi v_f^2 / 2 it carries across
    the cell's mid-plane, into W (plane l of column c at W[(c (dim + 1) + l) w]).
@@ -862,7 +855,7 @@ static inline __attribute__((always_inline)) void CellUpdate(PSSolver *S, const 
 
 /* CellUpdate's fast path for the cells u0 + k, k in [k0, k1), of a run
    that all hold gas s alone inside the domain along d, each of whose faces
-   carries s alone (Fl, Fh: the run's flux records, fs reals apart): the
+   carries s alone (Fl, Fh: the run's flux records, planes ft apart): the
    sums in SIMD lanes, in CellUpdate's order, and DiscardTrace's test; a
    cell it flags (next to never: a trace, or a volume without mass) takes
    DiscardTrace after the lanes, in the cells' order, as CellUpdate does */
@@ -899,7 +892,7 @@ static inline void CellUpdateLanes(PSSolver *S, PetscInt s, PetscInt u0, PetscIn
 }
 
 /* the cells j0 + k e_x, k < n (a run along x), between their faces' fluxes
-   Fl[fs k] (lower) and Fh[fs k] (upper): each one's dual flux, then its
+   Fl[k] (lower) and Fh[k] (upper; planes ft apart): each one's dual flux, then its
    update if it is owned (the order of the slices' loop).  A cell inside the
    domain along d whose node columns are all this rank's (the ownership
    depends on x only through a range, found once per run) takes DualFlux's
@@ -963,7 +956,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
          carrying s alone */
       PetscInt b = k;
       while (b < n && (d == 0 ? j0[0] + b > 0 && j0[0] + b + 1 < C->nc[0] : innerd) && C->sole[u0 + b] == s && Rl[2 * b] == s && Rl[2 * b + 1] == s + 1 && Rh[2 * b] == s && Rh[2 * b + 1] == s + 1) b++;
-      if (b - k >= 4) {
+      if (b - k >= PS_LANES_RUN) {
         CellUpdateLanes(S, s, u0, k, b, Fl, Fh, ft, W);
         k = b - 1;
         continue;
@@ -1215,8 +1208,8 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
              SIMD lanes, its sum in the cells' order after them */
           if (lanes && sole[ci] >= 0) {
             const PetscInt s = sole[ci];
-            for (b = i[0] + 1; b < C->ce[0] && sole[ci0 + b] == s; b++) {}
-            if (b - i[0] >= 4) {
+            b = i[0] + PSCellsSoleRun(&sole[ci], C->ce[0] - i[0]);
+            if (b - i[0] >= PS_LANES_RUN) {
               const PetscInt   len = b - i[0];
               PetscReal       *B   = &U[PS_CQ * ci + s * mst], *W = C->sW;
               const PetscReal *Mr  = &Mcell[ci], *Kr = &K[o0];
