@@ -606,6 +606,18 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
   }
 }
 
+/* a lane cell's values that the predictor's loop stores (lane l, slot n,
+   ghosted index ci): its material's p_k^h (its deviator's none: 0) and q^h
+   into the cell's half-step slot hs */
+static inline void PredictLaneCell(const PSCells *C, PetscInt n, PetscInt ci, PetscInt hmat, const PetscReal *W, PetscInt nw, PetscInt l, PetscReal *hs)
+{
+  PetscReal *pk = &PSCellsHM(C, n, hmat)[C->sole[ci] * hmat];
+  PetscInt   e;
+  for (e = 1; e < hmat; e++) pk[e] = 0.0;
+  pk[0] = W[PS_PL_PK * nw + l];
+  hs[0] = W[PS_PL_QH * nw + l];
+}
+
 /* the predictor-corrector: dim and strength constants where it is called
    (PSCellsPredict picks them as PSCellsToGrid), so the per-cell loops
    unroll, and without strength the force's change is a pressure's */
@@ -677,10 +689,8 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           PetscInt       l1 = l + 1, x;
           while (l1 + C->xs[0] < PetscMin(xb, C->ce[0]) && W[PS_PL_FLAG * nw + l1] != 0.0) l1++; /* (xb may lie beyond the row's cells) */
           for (x = l; x < l1; x++) {
-            PetscReal *pk = &PSCellsHM(C, n + x - l, hmat)[C->sole[ci + x - l] * hmat], *hx = &C->hs[hsd * (n + x - l)];
-            for (e = 1; e < hmat; e++) pk[e] = 0.0;
-            pk[0] = W[PS_PL_PK * nw + x];
-            hx[0] = W[PS_PL_QH * nw + x];
+            PetscReal *hx = &C->hs[hsd * (n + x - l)];
+            PredictLaneCell(C, n + x - l, ci + x - l, hmat, W, nw, x, hx);
             for (e = 0; e < nh; e++)
               for (d = 0; d < dim; d++) hx[1 + dim * e + d] = W[(pg + dim * e + d) * nw + x];
           }
@@ -692,10 +702,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
         if (lanes && W[PS_PL_FLAG * nw + l] != 0.0) {
           /* a cell of the lanes: their values, and what the loop below
              leaves (its material's p_k^h, q^h, the force's change) */
-          PetscReal *pk = &hmn[C->sole[ci] * hmat];
-          for (e = 1; e < hmat; e++) pk[e] = 0.0;
-          pk[0] = W[PS_PL_PK * nw + l];
-          *qh   = W[PS_PL_QH * nw + l];
+          PredictLaneCell(C, n, ci, hmat, W, nw, l, qh);
           for (d = 0; d < 3; d++) dsig[d][d] = W[PS_PL_DSIG * nw + l];
           Mc   = W[PS_PL_MC * nw + l];
           cmax = W[PS_PL_CMAX * nw + l];
