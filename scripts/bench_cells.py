@@ -100,3 +100,19 @@ ns = mpi.allreduce(flux["time"], op=MPI.MAX) / max(flux["count"], 1) / (n * n / 
 if comm.getRank() == 0:
     print(f"  the remap's flux phase: {ns:.1f} ns per cell and sweep ({flux['count']} sweeps)")
     print(f"BENCH cells_flux_ns_{case}_{n}_{comm.getSize()} {ns:.6e}")
+# where a cell-update's time goes: each phase's log event (the slowest rank's
+# time, warm-up steps and every run included) in ns per cell and step, so the
+# phases can be set beside the time a target rate leaves for a whole step
+# (2x PyClaw's rate: 1e9 / (2 rate) ns).  At 128^2 the arrays fit in the L2
+# cache, so that size's figures are the phases' arithmetic alone
+phases = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor", "PSCellsPredict"), ("Lagrange", "PSCellsLagrange"),
+          ("remap", "PSCellsRemap"), ("fractions", "PSCellsPrep"), ("faces+cells", "PSCellsFlux"), ("halo+masses", "PSCellsHalo"), ("KE fix", "PSCellsKE")]
+nstep = max(PETSc.Log.Event("PSCellsRemap").getPerfInfo()["count"], 1)
+parts = []
+for label, ev in phases:
+    t = mpi.allreduce(PETSc.Log.Event(ev).getPerfInfo()["time"], op=MPI.MAX) / nstep / (n * n / comm.getSize()) * 1e9
+    parts.append(f"{label} {t:.1f}")
+    if comm.getRank() == 0:
+        print(f"BENCH cells_phase_ns_{ev}_{case}_{n}_{comm.getSize()} {t:.6e}")
+if comm.getRank() == 0:
+    print(f"  ns per cell-update by phase (remap = fractions + faces+cells + halo+masses + KE fix): {', '.join(parts)}")
