@@ -26,8 +26,10 @@ the next).
 
 The line BENCH cells_<case>_<n>_<ranks> <rate> is for scripts/bench's table;
 so is BENCH cells_flux_ns_<case>_<n>_<ranks>: the remap's flux phase (event
-PSCellsFlux, the slowest rank) in ns per cell and sweep, which the table sets
-beside scripts/sweep_floor.c's stripped sweep of the pure case.
+PSCellsFlux, the slowest rank: the fractions, faces, dual fluxes and cell
+updates, as the stripped sweep computes its densities per row) in ns per cell
+and sweep, which the table sets beside scripts/sweep_floor.c's stripped sweep
+of the pure case.  Then each phase's event in ns per cell-update.
 """
 import sys
 
@@ -106,7 +108,7 @@ if comm.getRank() == 0:
 # (2x PyClaw's rate: 1e9 / (2 rate) ns).  At 128^2 the arrays fit in the L2
 # cache, so that size's figures are the phases' arithmetic alone
 phases = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor", "PSCellsPredict"), ("Lagrange", "PSCellsLagrange"),
-          ("remap", "PSCellsRemap"), ("fractions", "PSCellsPrep"), ("faces+cells", "PSCellsFlux"), ("halo+masses", "PSCellsHalo"), ("KE fix", "PSCellsKE")]
+          ("remap", "PSCellsRemap"), ("nodal velocities", "PSCellsPrep"), ("fractions+faces+cells", "PSCellsFlux"), ("halo+masses", "PSCellsHalo"), ("KE fix", "PSCellsKE")]
 nstep = max(PETSc.Log.Event("PSCellsRemap").getPerfInfo()["count"], 1)
 parts = []
 for label, ev in phases:
@@ -115,4 +117,4 @@ for label, ev in phases:
     if comm.getRank() == 0:
         print(f"BENCH cells_phase_ns_{ev}_{case}_{n}_{comm.getSize()} {t:.6e}")
 if comm.getRank() == 0:
-    print(f"  ns per cell-update by phase (remap = fractions + faces+cells + halo+masses + KE fix): {', '.join(parts)}")
+    print(f"  ns per cell-update by phase (remap = nodal velocities + fractions+faces+cells + halo+masses + KE fix): {', '.join(parts)}")

@@ -104,7 +104,7 @@ typedef struct PSCells_ {
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
   PetscReal *sS;                  /* per ghosted cell with one material with mass: its density and Q/M (the remap's sweep) */
   PetscReal *sP;                  /* per ghosted cell: the material that fills it alone (its one material with mass, its volume above 0.999 of the cell's, no markers, no void), else -1, and -1 on the ghosted array's two faces along the sweep (the remap's sweep); a real, so the faces' lanes load it beside the others (FaceRunLanes) */
-  PetscReal *sM;                  /* per ghosted cell: its one material's mass where sP >= 0 (FractionsBuild; the faces' lanes) */
+  PetscReal *sM;                  /* per ghosted cell: its one material's mass where sP >= 0 (FractionsUnits; the faces' lanes) */
   PetscInt  nsF;
   PetscReal *ec;                  /* the step's EOS values of each cell around the owned nodes, PS_EC per material present only (closure.c): PSCellsEC */
   PetscReal *hm;                  /* the predictor's half-step values of each material present in those cells, PSCellsHalfMat per material (lagrange.c): PSCellsHM */

@@ -65,7 +65,8 @@ static inline PetscReal VanLeerLanes(PetscReal a, PetscReal b)
    a run of cells writes each plane in SIMD lanes (FractionsRun), and
    Youngs' stencil reads one plane.  Void's, the last, is 1 everywhere and
    not stored (np - 1 planes); nor is the markers', the first, in a scene
-   without them (0 everywhere; its plane is left unwritten). */
+   without them (0 everywhere; its plane is left unwritten).  Built a unit
+   (row in 2D, plane in 3D) at a time during the sweep (FractionsUpTo). */
 typedef struct {
   PetscInt   np;            /* participants: markers, nmat materials, void */
   PetscInt   n[3], s[3];    /* box sizes and strides (doubles) */
@@ -73,9 +74,10 @@ typedef struct {
   PetscBool  mk;            /* the markers' plane A_0 is stored (a scene with markers; without, A_0 is 0: their share PS_CX_AM is 0 in every cell) */
   PetscInt   o[3];          /* global cell index of the box's first cell */
   PetscReal *A;             /* np planes of cumulative fractions */
+  PetscInt   built;         /* the box's units (rows along y in 2D, planes along z in 3D) [0, built) are built (FractionsUpTo) */
 } PSFractions;
 
-/* FractionsBuild's values for a run of len cells c0 + x of one gas s (a
+/* FractionsUnits's values for a run of len cells c0 + x of one gas s (a
    block of V, M, E), each alone with mass in its cell, inside the box's row
    (a0: the first one's fraction A_0; planes ps apart): the divisions and
    tests in SIMD lanes, the values each material's plane takes into W's
@@ -111,10 +113,12 @@ static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt le
   }
 }
 
-static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, PetscBool lanes, PetscInt w, PetscReal *W)
+/* the box's sizes and strides, its planes and the per-cell planes (sS, sP,
+   sM) allocated on first use; no unit built yet (FractionsUpTo builds them) */
+static PetscErrorCode FractionsSetup(PSCells *C, PSFractions *fr)
 {
   const PetscInt dim = C->dim, nm = C->nmat, ms = C->ms;
-  PetscInt       i, j, k, e, m, q, ntot = 1;
+  PetscInt       e, ntot = 1;
 
   PetscFunctionBeginUser;
   fr->np = nm + 2;
@@ -123,28 +127,42 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
     fr->o[e] = e < dim ? C->gs[e] - 1 : 0;
     ntot *= fr->n[e];
   }
-  fr->s[0] = 1;
-  fr->s[1] = fr->n[0];
-  fr->s[2] = fr->n[0] * fr->n[1];
-  fr->ps   = ntot;
-  fr->mk   = C->markers;
+  fr->s[0]  = 1;
+  fr->s[1]  = fr->n[0];
+  fr->s[2]  = fr->n[0] * fr->n[1];
+  fr->ps    = ntot;
+  fr->mk    = C->markers;
+  fr->built = 0;
   if (!fr->A) PetscCall(PetscMalloc1(ntot * (fr->np - 1), &fr->A)); /* (void's A, 1 everywhere, is not stored: SlabVolumes) */
   if (!C->sS) PetscCall(PetscCalloc3(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
-  {
-    const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
-    const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst, ps = fr->ps;
-    const PetscBool    mk = fr->mk;
-    const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
-    const PetscReal    Vc = C->Vc, *U = C->u, *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
-    const short       *Sole = C->sole;
-    PetscReal         *A = fr->A, *sS = C->sS, *sP = C->sP, *sM = C->sM;
-    for (k = 0; k < n[2]; k++)
-      for (j = 0; j < n[1]; j++) {
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The box's units [u0, u1) (rows along y in 2D, planes along z in 3D): the
+   cumulative fractions, and the per-cell values of the ghosted cells they
+   copy.  A unit reads the cells of its own unit alone (the nearest ghosted
+   one), so it is built before the sweep updates them (FractionsUpTo) */
+static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool lanes, PetscInt w, PetscReal *W, PetscInt u0, PetscInt u1)
+{
+  const PetscInt     dim = C->dim, nm = C->nmat, ms = C->ms, e = dim - 1;
+  const PetscInt     gs[3] = {C->gs[0], C->gs[1], C->gs[2]}, gl[3] = {C->gs[0] + C->gm[0] - 1, C->gs[1] + C->gm[1] - 1, C->gs[2] + C->gm[2] - 1};
+  const PetscInt     o[3] = {fr->o[0], fr->o[1], fr->o[2]}, n[3] = {fr->n[0], fr->n[1], fr->n[2]}, s[3] = {fr->s[0], fr->s[1], fr->s[2]}, mst = C->mst, ps = fr->ps;
+  const PetscBool    mk = fr->mk;
+  const PetscInt     cst1 = C->cst[1], cst2 = C->cst[2], coff = C->coff;
+  const PetscReal    Vc = C->Vc, *U = C->u, *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
+  const short       *Sole = C->sole;
+  PetscReal         *A = fr->A, *sS = C->sS, *sP = C->sP, *sM = C->sM;
+  PetscInt           i, j, k, m, q, u;
+
+  for (u = u0; u < u1; u++) {
+    const PetscInt k0 = dim == 3 ? u : 0, j0 = dim == 3 ? 0 : u, j1 = dim == 3 ? n[1] : u + 1;
+    for (k = k0; k < k0 + 1; k++)
+      for (j = j0; j < j1; j++) {
         /* the nearest cell of the ghosted box: its row's, then along x */
         const PetscInt cr = PetscMin(PetscMax(j + o[1], gs[1]), gl[1]) * cst1 + (dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0) * cst2 - coff;
         for (i = 0; i < n[0]; i++) {
           const PetscInt   ci = cr + PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), sole = Sole[ci]; /* PSCellIdx */
-          const PetscReal *u = &U[ms * ci], V = XV[ci];
+          const PetscReal *uc = &U[ms * ci], V = XV[ci];
           PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
           PetscInt         m0, m1, b;
           /* a run of a gas's cells inside the ghosted row (not its copies
@@ -161,7 +179,7 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
              quantities per unit mass, which the faces around it read three
              times a sweep (donor, and neighbour of each side's donor) */
           if (sole >= 0) {
-            const PetscReal *blk = &u[sole * mst];
+            const PetscReal *blk = &uc[sole * mst];
             PetscReal       *sp  = &sS[(ms - 1) * ci];
             sp[0]  = blk[PS_CM] / blk[PS_CV];
             sM[ci] = blk[PS_CM];
@@ -181,34 +199,55 @@ static PetscErrorCode FractionsBuild(PSCells *C, PSFractions *fr, PetscInt d, Pe
              void above round-off (A_0, 1 - A_nm).  (A copy outside the
              ghosted cells writes its nearest cell's value again: the same) */
           if (sole >= 0) { /* (the loop below for one material, without its test per material) */
-            const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + u[sole * mst + PS_CV] * iV, 1.0);
+            const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + uc[sole * mst + PS_CV] * iV, 1.0);
             for (m = 0; m < sole; m++) a[(1 + m) * ps] = a1;
             for (; m < nm; m++) a[(1 + m) * ps] = a2; /* (a[nm] = a2) */
-            sP[ci] = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && u[sole * mst + PS_CV] > 0.999 * V ? sole : -1;
+            sP[ci] = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && uc[sole * mst + PS_CV] > 0.999 * V ? sole : -1;
           } else {
             sP[ci] = -1.0;
             PSCellsSoleRange(sole, nm, &m0, &m1);
             for (m = 0; m < nm; m++) {
-              if (m >= m0 && m < m1) acc += u[m * mst + PS_CV] * iV;
+              if (m >= m0 && m < m1) acc += uc[m * mst + PS_CV] * iV;
               a[(1 + m) * ps] = PetscMin(acc, 1.0);
             }
           }
         }
       }
-  }
-  /* none on the ghosted array's two faces along d: their neighbours along d
-     are not in it */
-  {
-    PetscInt l[3], lo[3] = {0, 0, 0}, hi[3] = {C->gm[0], C->gm[1], dim == 3 ? C->gm[2] : 1};
-    for (e = 0; e < 2; e++) {
-      lo[d] = e ? C->gm[d] - 1 : 0;
-      hi[d] = lo[d] + 1;
-      for (l[2] = lo[2]; l[2] < hi[2]; l[2]++)
-        for (l[1] = lo[1]; l[1] < hi[1]; l[1]++)
-          for (l[0] = lo[0]; l[0] < hi[0]; l[0]++) C->sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1.0;
+    /* none on the ghosted array's two faces along d (their neighbours along
+       d are not in it): those of the ghosted unit this unit copies, each
+       time it is written (the last of its two writers, the unit beyond the
+       ghosted ones, is built with it: FractionsUpTo) */
+    {
+      const PetscInt gu = PetscMin(PetscMax(u + o[e], gs[e]), gl[e]) - gs[e];
+      PetscInt       l[3], lo[3] = {0, 0, 0}, hi[3] = {C->gm[0], C->gm[1], dim == 3 ? C->gm[2] : 1}, f;
+      lo[e] = gu;
+      hi[e] = gu + 1;
+      for (f = 0; f < 2; f++) {
+        PetscInt lf[3] = {lo[0], lo[1], lo[2]}, hf[3] = {hi[0], hi[1], hi[2]};
+        lf[d] = PetscMax(lf[d], f ? C->gm[d] - 1 : 0);
+        hf[d] = PetscMin(hf[d], f ? C->gm[d] : 1);
+        for (l[2] = lf[2]; l[2] < hf[2]; l[2]++)
+          for (l[1] = lf[1]; l[1] < hf[1]; l[1]++)
+            for (l[0] = lf[0]; l[0] < hf[0]; l[0]++) sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1.0;
+      }
     }
   }
-  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the box's units up to the one of global index g along y (2D) or z (3D),
+   before the sweep reads them or updates their cells: the faces of a slice
+   or line read the donors' neighbours and Youngs' stencils one unit beyond
+   it at most, and its cells are updated after.  The last ghosted unit and
+   its copy beyond are built together (both write its per-cell values) */
+static inline void FractionsUpTo(PSCells *C, PSFractions *fr, PetscInt d, PetscBool lanes, PetscInt w, PetscReal *W, PetscInt g)
+{
+  const PetscInt e = C->dim - 1, n = fr->n[e];
+  PetscInt       b = g - fr->o[e] + 1;
+  if (b >= n - 2) b = n;
+  if (b > fr->built) {
+    FractionsUnits(C, fr, d, lanes, w, W, fr->built, b);
+    fr->built = b;
+  }
 }
 
 /* Volumes of each cell material (vol[0..nmat-1]) in the slab of width w (m)
@@ -372,7 +411,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
       continue;
     }
     /* the density and per-unit-mass values of the donor and its
-       neighbours: FractionsBuild's where the cell has m alone (the same
+       neighbours: FractionsUnits's where the cell has m alone (the same
        divisions), else here */
     spd = s == m ? &C->sS[(ms - 1) * uc] : NULL;
     rho = spd ? spd[0] : blk[PS_CM] / blk[PS_CV];
@@ -412,7 +451,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
    (o0: face 0's lower node, u0 the cell above it, jd0 its index along d, jx
    1 along x, else 0), into W (plane PS_FL_* of length w).  The same values,
    without a branch: the face's two possible donors (the cells below and
-   above it) and their neighbours are all loaded (FractionsBuild's planes:
+   above it) and their neighbours are all loaded (FractionsUnits's planes:
    sP, the material that fills a cell; sM its mass; sS its
    density and e), and chosen by the sign of the face's displacement; a face
    that FaceRun's test would send elsewhere has the flag 0.  Gas blocks
@@ -458,7 +497,7 @@ static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const Pets
    d = x), into F[k] (planes ft apart: value q at F[q ft + k]) and R[2 k].  A face whose donor and both its
    neighbours along d are filled by one material (nearly every face of a
    single-material region) takes here the arithmetic of FaceFlux's loop for
-   a pure donor with van Leer slopes, in its order, on FractionsBuild's
+   a pure donor with van Leer slopes, in its order, on FractionsUnits's
    values, without its tests and with the indices carried along the run
    (FaceFlux spent about 220 instructions on such a face, most of them on
    indices and tests); any other face (a mixed, partial or boundary donor)
@@ -525,7 +564,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
       continue;
     }
     /* the donor and both its neighbours filled by one material s
-       (FractionsBuild's C->sP: FaceFlux's tests for its slopes, and more) */
+       (FractionsUnits's C->sP: FaceFlux's tests for its slopes, and more) */
     s = (PetscInt)fill[uc];
     if (s >= 0 && fill[uc - cd] == fill[uc] && fill[uc + cd] == fill[uc]) {
       const PetscReal *blk = &U[ms * uc + mst * s];
@@ -1018,6 +1057,8 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   PetscReal      *F, *K, *VL, *P = C->P;
   const PetscInt  nv = C->nnl; /* (VL's plane length) */
+  const PetscBool lanes = ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (FractionsRun: gas blocks) */
+  const PetscInt  nw = PetscMax(ix->gm[0], C->gm[0]); /* (the lanes' scratch C->sW: planes of nw) */
   PetscInt       *R, lo[3], hi[3], i[3], e, m, q, ns;
   PSSweepDirs     sw;
 
@@ -1037,7 +1078,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   R  = C->sR;
   K  = C->sK;
   VL = C->sVL;
-  PetscCall(FractionsBuild(C, fr, d, ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE, PetscMax(ix->gm[0], C->gm[0]), C->sW));
+  PetscCall(FractionsSetup(C, fr));
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
      upper corner nodes, added into P; free faces let the nodes' share out.
      Velocities (VL) and kinetic energies (K) before the sweep, over every
@@ -1070,6 +1111,12 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      (the nodes' momentum, the books), is that of separate passes over all
      faces, then all cells */
   PetscCall(PetscLogEventBegin(EV_Flux, 0, 0, 0, 0));
+  /* the fractions and per-cell values of the cells before the sweep
+     (FractionsUpTo), a row (2D) or plane (3D) of the box at a time, one
+     ahead of the faces that read them: they are read while still in the
+     caches (a separate pass over the box before the faces wrote them all to
+     memory and read them back, 8 of the 512^2 quadrants' 150 ns per
+     cell-update), and each unit is built before the sweep updates its cells */
   if (d == 0) {
     /* along x a slice is one face: line by line instead, all its faces (they
        read the cells before the sweep only), then its cells in order: the
@@ -1079,6 +1126,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (j[2] = lo[2]; j[2] < hi[2]; j[2]++)
       for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
         j[0] = lo[0];
+        FractionsUpTo(C, fr, d, lanes, nw, C->sW, j[dim - 1] + 1);
         FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, nf, R);
         CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[1], nf, R, &R[2], VL, P, K);
       }
@@ -1096,6 +1144,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
           for (lead = lo[d]; lead < hi[d] + 2; lead++) {
             /* the faces of slice lead */
             if (lead < hi[d]) {
+              FractionsUpTo(C, fr, d, lanes, nw, C->sW, (dim == 3 && d == 1 ? i[2] : lead) + 1);
               PetscReal *Fs = &F[(lead % 3) * ns * fs];
               PetscInt  *Rs = &R[(lead % 3) * ns * 2];
               PetscInt   j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
@@ -1122,6 +1171,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
           }
         }
   }
+  FractionsUpTo(C, fr, d, lanes, nw, C->sW, fr->o[dim - 1] + fr->n[dim - 1]); /* (the rest: the box whole, as every sweep leaves it) */
   PetscCall(PetscLogEventEnd(EV_Flux, 0, 0, 0, 0));
   /* the cells' new state to the ghosts; the new nodal masses into mcn, the
      ones before the sweep kept in mco (the velocity bounds below) */
@@ -1193,7 +1243,6 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     const PetscReal *Mcell = C->Mcell; /* after the sweep (PSCellsNodalMass above) */
     const short     *sole  = C->sole;
     PetscReal       *U = C->u, heat = C->remap_heat; /* (the same sum, in a register) */
-    const PetscBool  lanes = ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE;
     PetscInt         off[8], c;
     for (c = 0; c < (1 << dim); c++) off[c] = C->K.off[c];
     for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
