@@ -86,7 +86,21 @@ static inline void EOSGasRun(const PSCells *C, PetscInt s, PetscReal g, PetscInt
 PetscErrorCode PSCellsEOSCache(PSSolver *S)
 {
   PSCells *C = S->cells;
-  PetscInt i, j, k, m, n, m0, m1, tot = C->nmat - 1; /* (slots: the padding) */
+  PetscInt j, k, n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PSCellsEOSSlots(S));
+  for (k = C->xs[2]; k < C->ce[2]; k++)
+    for (j = C->xs[1]; j < C->ce[1]; j++, n += C->ce[0] - C->xs[0]) PetscCall(PSCellsEOSRow(S, j, k, n));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* PSCellsEOSCache's slots: each cell's, after the padding, the cells in
+   order; the cache's room */
+PetscErrorCode PSCellsEOSSlots(PSSolver *S)
+{
+  PSCells *C = S->cells;
+  PetscInt i, j, k, n, m0, m1, tot = C->nmat - 1; /* (slots: the padding) */
 
   PetscFunctionBeginUser;
   if (!C->eco) {
@@ -94,7 +108,6 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
     for (d = 0; d < 3; d++) nx *= C->xm[d];
     PetscCall(PetscMalloc1(PetscMax(1, nx), &C->eco));
   }
-  /* each cell's slot: after the padding, the cells in order */
   {
     const PetscInt nrow = C->ce[0] - C->xs[0], nall = C->nmat; /* (locals: the stores to eco could alias C's fields) */
     PetscInt      *eco  = C->eco;
@@ -117,39 +130,46 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
     PetscCall(PetscCalloc1(PS_EC * C->nec, &C->ec));
     PetscCall(PetscCalloc1(PSCellsHalfMat(C) * C->nec, &C->hm));
   }
-  /* the cells around the owned nodes (PSCellsXIdx): their forces on them;
-     a run of an ideal gas's pure cells (no shear modulus) in lanes */
-  {
-    PetscBool gas[PS_MAX_CELLMAT];
-    for (m = 0; m < C->nmat; m++) gas[m] = C->gasf[m] && S->mat[C->mat[m]].G == 0.0 && C->ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE;
-    n = 0;
-    for (k = C->xs[2]; k < C->ce[2]; k++)
-      for (j = C->xs[1]; j < C->ce[1]; j++)
-        for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
-          const PetscInt   ci = PSCellIdx(C, i, j, k), s = C->sole[ci];
-          const PetscReal *u  = &C->u[C->ms * ci];
-          PetscReal       *ecn = PSCellsEC(C, n);
-          if (s >= 0 && gas[s]) {
-            const PetscInt b = i + PSCellsSoleRun(&C->sole[ci], C->ce[0] - i);
-            if (b - i >= PS_LANES_RUN) {
-              EOSGasRun(C, s, C->gam[s], ci, b - i, &ecn[PS_EC * s]); /* (a pure cell's one slot: the run's are consecutive) */
-              n += b - i - 1;
-              i = b - 1;
-              continue;
-            }
-          }
-          PSCellsPresent(C, ci, &m0, &m1);
-          for (m = m0; m < m1; m++) {
-            const PetscReal *blk = &u[m * C->mst];
-            PetscReal       *ec  = &ecn[PS_EC * m];
-            if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
-              ec[0] = ec[1] = ec[2] = 0.0;
-              continue;
-            }
-            PetscCall(PSCellsPressure(S, m, blk, &ec[0], &ec[1]));
-            ec[2] = blk[PS_CV] * blk[PS_CV] / (blk[PS_CM] * PetscMax(ec[1] * ec[1], 1e-6)); /* V / (rho c^2); a cold gas at p = 0: very compliant, still finite */
-          }
-        }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* PSCellsEOSCache's values of the row (j, k) of the cells around the owned
+   nodes (PSCellsXIdx), its first cell's slot index n0 (after
+   PSCellsEOSSlots): a run of an ideal gas's pure cells (no shear modulus)
+   in lanes.  A row reads its own cells alone, so the cells' P2G takes a
+   row's values just before it reads them */
+PetscErrorCode PSCellsEOSRow(PSSolver *S, PetscInt j, PetscInt k, PetscInt n0)
+{
+  PSCells  *C = S->cells;
+  PetscInt  i, m, n = n0, m0, m1;
+  PetscBool gas[PS_MAX_CELLMAT];
+
+  PetscFunctionBeginUser;
+  for (m = 0; m < C->nmat; m++) gas[m] = C->gasf[m] && S->mat[C->mat[m]].G == 0.0 && C->ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE;
+  for (i = C->xs[0]; i < C->ce[0]; i++, n++) {
+    const PetscInt   ci = PSCellIdx(C, i, j, k), s = C->sole[ci];
+    const PetscReal *u  = &C->u[C->ms * ci];
+    PetscReal       *ecn = PSCellsEC(C, n);
+    if (s >= 0 && gas[s]) {
+      const PetscInt b = i + PSCellsSoleRun(&C->sole[ci], C->ce[0] - i);
+      if (b - i >= PS_LANES_RUN) {
+        EOSGasRun(C, s, C->gam[s], ci, b - i, &ecn[PS_EC * s]); /* (a pure cell's one slot: the run's are consecutive) */
+        n += b - i - 1;
+        i = b - 1;
+        continue;
+      }
+    }
+    PSCellsPresent(C, ci, &m0, &m1);
+    for (m = m0; m < m1; m++) {
+      const PetscReal *blk = &u[m * C->mst];
+      PetscReal       *ec  = &ecn[PS_EC * m];
+      if (blk[PS_CM] <= 0.0 || blk[PS_CV] <= 0.0) {
+        ec[0] = ec[1] = ec[2] = 0.0;
+        continue;
+      }
+      PetscCall(PSCellsPressure(S, m, blk, &ec[0], &ec[1]));
+      ec[2] = blk[PS_CV] * blk[PS_CV] / (blk[PS_CM] * PetscMax(ec[1] * ec[1], 1e-6)); /* V / (rho c^2); a cold gas at p = 0: very compliant, still finite */
+    }
   }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

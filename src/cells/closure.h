@@ -9,6 +9,8 @@
 #include "cells.h"
 
 PETSC_INTERN PetscErrorCode PSCellsEOSCache(PSSolver *);
+PETSC_INTERN PetscErrorCode PSCellsEOSSlots(PSSolver *);
+PETSC_INTERN PetscErrorCode PSCellsEOSRow(PSSolver *, PetscInt j, PetscInt k, PetscInt n0);
 
 /* The pressure a cell's materials exert together: the compliance-weighted
    mean sum chi_k p_k / sum chi_k.  It is the pressure whose work on the

@@ -322,7 +322,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
-  PetscCall(PSCellsEOSCache(S));
+  PetscCall(PSCellsEOSSlots(S)); /* (PSCellsEOSCache: each row's values below, before its cells read them) */
   /* the cell materials' nodal velocity P^C_i / m^C_i at t^n, every local node,
      into the remap's scratch C->sVL (free until the remap): the hourglass
      rates below read it (each node divided once per step, not once per
@@ -335,6 +335,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
+      PetscCall(PSCellsEOSRow(S, j, k, n));
       if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
         const PetscInt   ci = ci0 + i;
