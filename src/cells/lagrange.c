@@ -619,6 +619,104 @@ static inline void PredictLaneCell(const PSCells *C, PetscInt n, PetscInt ci, Pe
   hs[0] = W[PS_PL_QH * nw + l];
 }
 
+/* the predictor's node values of the local nodes [o0, o1): v^n (the grid's
+   old velocity: musl keeps v_new - v_old; apic the cells' own P^C/m^C) into
+   vo, v^{n+1/2*} = (v^n + v*)/2 into vh, and df zeroed for the cells' force
+   changes */
+static inline void PredictNodes(PSSolver *S, const PetscInt dim, PetscBool musl, PetscInt o0, PetscInt o1)
+{
+  PSCells         *C   = S->cells;
+  const PetscInt   dof = PSGridDof(S);
+  const PetscReal *mcn = C->mcn, *P = C->P, *g = S->g; /* (locals, a divisor for every node: the loops in SIMD lanes) */
+  PetscReal       *vo = C->vo, *vh = C->vh, *df = C->df;
+  PetscInt         o, d;
+  if (musl) {
+#pragma GCC ivdep
+    for (o = o0; o < o1; o++)
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) {
+        const PetscReal vs = g[dof * o + 1 + d];
+        vo[dim * o + d]    = vs - g[dof * o + dof - dim + d];
+        vh[dim * o + d]    = 0.5 * (vo[dim * o + d] + vs);
+        df[dim * o + d]    = 0.0;
+      }
+  } else {
+#pragma GCC ivdep
+    for (o = o0; o < o1; o++) {
+      const PetscReal mn = mcn[o], md = mn > 0.0 ? mn : 1.0;
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) {
+        const PetscReal vs = g[dof * o + 1 + d], r = P[dim * o + d] / md;
+        vo[dim * o + d]    = mn > 0.0 ? r : vs;
+        vh[dim * o + d]    = 0.5 * (vo[dim * o + d] + vs);
+        df[dim * o + d]    = 0.0;
+      }
+    }
+  }
+}
+
+/* the corrector of the owned nodes (i, j, k), i in [lo[0], hi[0]), j in
+   [j0, j1), k in [k0, k1) (their df whole), [lo, hi) the owned nodes of
+   the step's box: v^{n+1} = v* + dt df/m, the boundary conditions, musl's
+   dv = v^{n+1} - v^n.  Each node alone */
+static inline void CorrectNodes(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscBool musl, const PetscInt lo[3], const PetscInt hi[3], PetscInt j0, PetscInt j1, PetscInt k0, PetscInt k1)
+{
+  PSCells       *C   = S->cells;
+  const PetscInt dof = PSGridDof(S);
+  PetscReal     *g   = S->g;
+  PetscInt       i, j, k, d, o;
+
+  for (k = k0; k < k1; k++)
+    for (j = j0; j < j1; j++)
+      for (i = lo[0]; i < hi[0]; i++) {
+        const PetscInt ip[3] = {i - PS_PAD, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
+        PetscReal     *gn    = &g[dof * (o = Lidx(ix, i, j, k))], vn[3] = {0, 0, 0};
+        if (gn[0] <= S->mass_min) continue;
+        for (d = 0; d < dim; d++) vn[d] = gn[1 + d] + dt * C->df[dim * o + d] / gn[0];
+        PSNodeBCDim(S, dim, ip, vn);
+        for (d = 0; d < dim; d++) gn[1 + d] = vn[d];
+        if (musl) {
+          /* the markers' increment dv = v^{n+1} - v_M^n from their own old
+             nodal velocity v_M^n = (m v^n - P^C_i) / (m - m^C_i): the cells
+             take P^C_i = m^C_i v^{n+1} (PSCellsLagrange), so at a node where
+             both are and move apart the markers' FLIP increment from the
+             mixed v^n left the total momentum short by (m^C P^M - m^M P^C)/m
+             (a copper plate leaving into still air lost 7e-5 of its momentum
+             in 1.5 us); now markers and cells together keep it to round-off */
+          const PetscReal mM = gn[0] - C->mcn[o];
+          for (d = 0; d < dim; d++) {
+            PetscReal vM = C->vo[dim * o + d];
+            if (C->mcn[o] > 0.0 && mM > 1e-9 * gn[0]) vM = (gn[0] * vM - C->P[dim * o + d]) / mM;
+            gn[dof - dim + d] = vn[d] - vM;
+          }
+        }
+      }
+}
+
+/* PredictNodes up to the nodes of grid index u + 1 + PS_PAD along y (2D) or z
+   (3D), the upper corners of the cells of index u, from the local node *nb on */
+static inline void PredictNodesUpTo(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscBool musl, PetscInt u, PetscInt *nb)
+{
+  const PetscInt unit = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0];
+  const PetscInt e1   = PetscMin(PetscMax(u + 2 + PS_PAD - ix->gs[dim - 1], 0) * unit, S->cells->nnl);
+  if (e1 > *nb) {
+    PredictNodes(S, dim, musl, *nb, e1);
+    *nb = e1;
+  }
+}
+
+/* CorrectNodes of the owned nodes of the step's box [lo, hi) up to grid
+   index u + PS_PAD along y (2D) or z (3D), the lower corners of the cells
+   of index u, from *nxt on */
+static inline void CorrectNodesUpTo(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscBool musl, const PetscInt lo[3], const PetscInt hi[3], PetscInt u, PetscInt *nxt)
+{
+  const PetscInt e = dim - 1, u1 = PetscMin(u + PS_PAD + 1, hi[e]);
+  if (u1 <= *nxt) return;
+  if (dim == 2) CorrectNodes(S, ix, dt, dim, musl, lo, hi, *nxt, u1, lo[2], hi[2]);
+  else CorrectNodes(S, ix, dt, dim, musl, lo, hi, lo[1], hi[1], *nxt, u1);
+  *nxt = u1;
+}
+
 /* the predictor-corrector: dim and strength constants where it is called
    (PSCellsPredict picks them as PSCellsToGrid), so the per-cell loops
    unroll, and without strength the force's change is a pressure's */
@@ -631,46 +729,28 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
   PetscReal      *g = S->g, hm = 0.0, *W = C->sW;
-  PetscInt        i, j, k, m, d, e, a, o, lo[3], hi[3], n = 0, orow;
+  PetscInt        i, j, k, m, d, e, a, lo[3], hi[3], n = 0, orow, nb = 0, nxt;
 
   PetscFunctionBeginUser;
   if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
   PetscCall(PetscLogEventBegin(EV_Pred, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
-  /* v^n at every local node (the grid's old velocity: musl keeps v_new - v_old;
-     apic the cells' own P^C/m^C) and v^{n+1/2*} = (v^n + v*)/2 into vh */
-  {
-    const PetscReal *mcn = C->mcn, *P = C->P; /* (locals, a divisor for every node: the loops in SIMD lanes) */
-    PetscReal       *vo = C->vo, *vh = C->vh;
-    const PetscInt   nnl = C->nnl;
-    if (musl) {
-#pragma GCC ivdep
-      for (o = 0; o < nnl; o++)
-#pragma GCC unroll 3
-        for (d = 0; d < dim; d++) {
-          const PetscReal vs = g[dof * o + 1 + d];
-          vo[dim * o + d]    = vs - g[dof * o + dof - dim + d];
-          vh[dim * o + d]    = 0.5 * (vo[dim * o + d] + vs);
-        }
-    } else {
-#pragma GCC ivdep
-      for (o = 0; o < nnl; o++) {
-        const PetscReal mn = mcn[o], md = mn > 0.0 ? mn : 1.0;
-#pragma GCC unroll 3
-        for (d = 0; d < dim; d++) {
-          const PetscReal vs = g[dof * o + 1 + d], r = P[dim * o + d] / md;
-          vo[dim * o + d]    = mn > 0.0 ? r : vs;
-          vh[dim * o + d]    = 0.5 * (vo[dim * o + d] + vs);
-        }
-      }
-    }
-  }
-  PetscCall(PetscArrayzero(C->df, C->nnl * dim));
   /* every cell around the owned nodes (PSCellsXIdx), its force change to
-     its owned corners */
-  for (k = C->xs[2]; k < C->ce[2]; k++)
+     its owned corners.  A row (2D) or plane (3D) of cells at a time, with
+     the nodes' values pipelined around it, each node's own arithmetic as in
+     separate passes: before the cells of unit u, the nodes up to unit
+     u + 1 take v^n, v^{n+1/2*} and a zero df (PredictNodes; nb: the local
+     nodes done); after them, the owned nodes up to unit u have all their
+     force changes (the loop goes up along y, z) and take the corrector
+     (CorrectNodes; nxt: the first unit of nodes without it).  A node's row
+     is read and written while in the caches, not in three passes */
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
+  nxt = lo[dim - 1];
+  for (k = C->xs[2]; k < C->ce[2]; k++) {
+    if (dim == 3) PredictNodesUpTo(S, ix, dim, musl, k, &nb);
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
+      if (dim == 2) PredictNodesUpTo(S, ix, dim, musl, j, &nb);
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
       if (lanes) PredictGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], dt, hm, !strength, nw, W);
       for (i = C->xs[0], orow = PSCellsOwnedRow(ix, dim, j, k); i < C->ce[0]; i++, n++) {
@@ -794,36 +874,15 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           }
         }
       }
+      if (dim == 2) CorrectNodesUpTo(S, ix, dt, dim, musl, lo, hi, j, &nxt);
     }
-  /* the corrector on the owned nodes (their df whole: above): v^{n+1} = v* +
-     dt df/m, the boundary conditions, musl's dv = v^{n+1} - v^n; then the
-     ghosts */
-  Clip(S->zbox, ix->os, ix->om, lo, hi);
-  for (k = lo[2]; k < hi[2]; k++)
-    for (j = lo[1]; j < hi[1]; j++)
-      for (i = lo[0]; i < hi[0]; i++) {
-        const PetscInt ip[3] = {i - PS_PAD, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
-        PetscReal     *gn    = &g[dof * (o = Lidx(ix, i, j, k))], vn[3] = {0, 0, 0};
-        if (gn[0] <= S->mass_min) continue;
-        for (d = 0; d < dim; d++) vn[d] = gn[1 + d] + dt * C->df[dim * o + d] / gn[0];
-        PSNodeBCDim(S, dim, ip, vn);
-        for (d = 0; d < dim; d++) gn[1 + d] = vn[d];
-        if (musl) {
-          /* the markers' increment dv = v^{n+1} - v_M^n from their own old
-             nodal velocity v_M^n = (m v^n - P^C_i) / (m - m^C_i): the cells
-             take P^C_i = m^C_i v^{n+1} (PSCellsLagrange), so at a node where
-             both are and move apart the markers' FLIP increment from the
-             mixed v^n left the total momentum short by (m^C P^M - m^M P^C)/m
-             (a copper plate leaving into still air lost 7e-5 of its momentum
-             in 1.5 us); now markers and cells together keep it to round-off */
-          const PetscReal mM = gn[0] - C->mcn[o];
-          for (d = 0; d < dim; d++) {
-            PetscReal vM = C->vo[dim * o + d];
-            if (C->mcn[o] > 0.0 && mM > 1e-9 * gn[0]) vM = (gn[0] * vM - C->P[dim * o + d]) / mM;
-            gn[dof - dim + d] = vn[d] - vM;
-          }
-        }
-      }
+    if (dim == 3) CorrectNodesUpTo(S, ix, dt, dim, musl, lo, hi, k, &nxt);
+  }
+  /* the nodes the loop above left: the predictor's values of every local
+     node, and the corrector of the owned ones; then the ghosts */
+  PredictNodes(S, dim, musl, nb, C->nnl);
+  if (dim == 2) CorrectNodes(S, ix, dt, dim, musl, lo, hi, nxt, hi[1], lo[2], hi[2]);
+  else CorrectNodes(S, ix, dt, dim, musl, lo, hi, lo[1], hi[1], nxt, hi[2]);
   PetscCall(PetscLogEventEnd(EV_Pred, 0, 0, 0, 0));
   PetscCall(PSHaloBcast(S->sfg, S->g));
   PetscFunctionReturn(PETSC_SUCCESS);
