@@ -960,29 +960,21 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
   }
 }
 
-/* the Lagrangian phase: dim a constant where it is called (PSCellsLagrange picks 2D or 3D), so
-   the per-cell loops unroll */
-static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
+/* the Lagrangian phase's nodes of the local units (rows along y in 2D,
+   planes along z in 3D) [u0, u1): v^{n+1/2} = (v^n + v^{n+1})/2 into vh
+   with the walls holding the faces on them, and P^C_i = m^C_i v^{n+1}.
+   Returns the units done (u1, or u0 if more) */
+static inline PetscInt LagrangeNodes(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt u0, PetscInt u1)
 {
-  PSCells        *C = S->cells;
-  PetscReal      *XQ = PSCellsX(C, 0, PS_CX_Q), *XV = PSCellsX(C, 0, PS_CX_V); /* the per-cell planes of q and the cells' volumes (PSCellsX) */
-  const PetscInt  dof = PSGridDof(S), nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
-  const PetscReal *v = S->g + 1; /* v_new (musl) or v (apic) in lanes 1..dim of the grid */
-  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
-  const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
-  PetscReal       hm = 0.0, smax = 0.0, *W = C->sW;
-  PetscInt        i, j, k, m, d, o;
+  PSCells         *C   = S->cells;
+  const PetscInt   dof = PSGridDof(S);
+  const PetscReal *v   = S->g + 1; /* (v^{n+1}: component d of node o at v[dof o + d]) */
+  PetscInt         i, j, k, d, o;
 
-  PetscFunctionBeginUser;
-  if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
-  PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
-  for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
-  /* the cell materials take the new nodal velocity (every local node: the
-     remap reads ghost nodes too), and their faces move with v^{n+1/2} =
-     (v^n + v^{n+1})/2, on which the half-step force does its work
-     (PSCellsPredict) */
-  for (k = ix->gs[2]; k < ix->gs[2] + ix->gm[2]; k++)
-    for (j = ix->gs[1]; j < ix->gs[1] + ix->gm[1]; j++) {
+  u1 = PetscMin(u1, ix->gm[dim - 1]);
+  if (u1 <= u0) return u0;
+  for (k = dim == 3 ? ix->gs[2] + u0 : ix->gs[2]; k < (dim == 3 ? ix->gs[2] + u1 : ix->gs[2] + ix->gm[2]); k++)
+    for (j = dim == 3 ? ix->gs[1] : ix->gs[1] + u0; j < (dim == 3 ? ix->gs[1] + ix->gm[1] : ix->gs[1] + u1); j++) {
       const PetscInt   orow = Lidx(ix, 0, j, k), x0 = ix->gs[0], x1 = ix->gs[0] + ix->gm[0]; /* (node (i, j, k) is orow + i) */
       const PetscReal *vo = C->vo, *mcn = C->mcn; /* (locals: the row's loop in SIMD lanes) */
       PetscReal       *vh = C->vh, *P = C->P;
@@ -996,10 +988,36 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         }
       PSNodeBCRow(S, dim, orow, x0, x1, j, k, vh); /* walls hold the faces on them */
     }
+  return u1;
+}
+
+/* the Lagrangian phase: dim a constant where it is called (PSCellsLagrange picks 2D or 3D), so
+   the per-cell loops unroll */
+static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
+{
+  PSCells        *C = S->cells;
+  PetscReal      *XQ = PSCellsX(C, 0, PS_CX_Q), *XV = PSCellsX(C, 0, PS_CX_V); /* the per-cell planes of q and the cells' volumes (PSCellsX) */
+  const PetscInt  nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
+  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
+  const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
+  PetscReal       hm = 0.0, smax = 0.0, *W = C->sW;
+  PetscInt        i, j, k, m, d, nb;
+
+  PetscFunctionBeginUser;
+  if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
+  PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
+  for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
+  /* the cell materials take the new nodal velocity (every local node: the
+     remap reads ghost nodes too), and their faces move with v^{n+1/2} =
+     (v^n + v^{n+1})/2, on which the half-step force does its work
+     (PSCellsPredict): LagrangeNodes, a row (2D) or plane (3D) of nodes
+     just before the first cells that read it (nb: the units of nodes done) */
+  nb = 0;
   for (k = C->cs[2]; k < C->ce[2]; k++)
     for (j = C->cs[1]; j < C->ce[1]; j++) {
       PetscInt       ci0, oc0;
       const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
+      nb = LagrangeNodes(S, ix, dim, nb, (dim == 3 ? k : j) + 2 + PS_PAD - ix->gs[dim - 1]); /* (the cells' upper corners' unit, u + 1 + PS_PAD, and those below) */
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, NULL, NULL);
       if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, nw, W);
       for (i = C->cs[0]; i < C->ce[0]; i++) {
@@ -1090,6 +1108,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         Fastest(S, i, j, k, cmax, vmax, q > 0.0 ? q / (rho * PetscMax(cmax, 0.5 * PetscSqrtReal(q / rho))) : 0.0, rho, &smax);
       }
     }
+  (void)LagrangeNodes(S, ix, dim, nb, ix->gm[dim - 1]); /* (the nodes above the cells') */
   C->smax = smax;
   PetscCall(PetscLogEventEnd(EV_Lag, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
