@@ -149,10 +149,19 @@ void PSGridUpdateMUSL(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscR
 /* a[a_s o + d] += b[b_s o + d] on the owned nodes of the active box */
 void PSGridAddOwned(const PSSolver *S, const PSIndex *ix, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as)
 {
+  PSGridAddOwnedUnits(S, ix, b, bs, a, as, PETSC_MIN_INT, PETSC_MAX_INT);
+}
+
+/* PSGridAddOwned on the nodes of grid index [u0, u1) along y (2D) or z (3D)
+   alone (a caller that adds to the nodes a row or plane at a time) */
+void PSGridAddOwnedUnits(const PSSolver *S, const PSIndex *ix, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as, PetscInt u0, PetscInt u1)
+{
   const PetscInt dim = S->dim;
   PetscInt       i, j, k, lo[3], hi[3];
 
   Clip(S->zbox, ix->os, ix->om, lo, hi);
+  lo[dim - 1] = PetscMax(lo[dim - 1], u0);
+  hi[dim - 1] = PetscMin(hi[dim - 1], u1);
   for (k = lo[2]; k < hi[2]; k++)
     for (j = lo[1]; j < hi[1]; j++) {
       const PetscInt orow = Lidx(ix, 0, j, k); /* (node (i, j, k) is orow + i) */

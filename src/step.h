@@ -72,6 +72,7 @@ PETSC_INTERN PetscErrorCode PSGridReset(PSSolver *, const PSIndex *, const Petsc
 PETSC_INTERN void           PSGridVelocity(const PSSolver *, const PSIndex *, const PetscReal *m, PetscInt ms, PetscReal *mv, PetscInt vs);
 PETSC_INTERN void           PSGridUpdateMUSL(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g);
 PETSC_INTERN void           PSGridAddOwned(const PSSolver *, const PSIndex *, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as);
+PETSC_INTERN void           PSGridAddOwnedUnits(const PSSolver *, const PSIndex *, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as, PetscInt u0, PetscInt u1);
 PETSC_INTERN PetscErrorCode PSGridSolve(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSMUSLP2G(PSSolver *, PSFields *, const PSIndex *);
 PETSC_INTERN PetscErrorCode PSMUSLG2P(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);

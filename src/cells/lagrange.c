@@ -304,6 +304,16 @@ static inline void GasLanesNodes(const PetscInt dim, const PSCorners *K, PetscIn
   }
 }
 
+/* the cell materials' nodal velocity P^C_i / m^C_i at t^n of the local nodes
+   [o0, o1) into C->sVL (PSCellsToGridDim); returns the nodes done */
+static inline PetscInt ToGridNodes(PSCells *C, const PetscInt dim, PetscInt o0, PetscInt o1)
+{
+  PetscInt o, d;
+  for (o = o0; o < o1; o++)
+    for (d = 0; d < dim; d++) C->sVL[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
+  return PetscMax(o0, o1);
+}
+
 /* the cells' mass and force to the nodes: dim and strength constants where
    it is called (PSCellsToGrid picks 2D or 3D, and whether any cell material
    has strength, C->nq > 0), so the per-cell loops unroll, and without
@@ -316,24 +326,28 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = !strength && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (without strength; -run_lanes 1: the scalar loop alone, for checks) */
+  const PetscInt  unit = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0]; /* (local nodes in a row, 2D, or plane, 3D) */
   PetscReal      *g = S->g, *W = C->sW;
-  PetscInt        i, j, k, m, a, d, e, o, n = 0, orow;
+  PetscInt        i, j, k, m, a, d, e, n = 0, orow, nb = 0, nxt = PETSC_MIN_INT;
 
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
   PetscCall(PSCellsEOSSlots(S)); /* (PSCellsEOSCache: each row's values below, before its cells read them) */
-  /* the cell materials' nodal velocity P^C_i / m^C_i at t^n, every local node,
-     into the remap's scratch C->sVL (free until the remap): the hourglass
-     rates below read it (each node divided once per step, not once per
-     corner) */
-  for (o = 0; o < C->nnl; o++)
-    for (d = 0; d < dim; d++) C->sVL[dim * o + d] = C->mcn[o] > 0.0 ? C->P[dim * o + d] / C->mcn[o] : 0.0;
   /* every cell around the owned nodes, to its owned corners (PSCellsXIdx:
-     each node's sum in one order on any number of ranks) */
-  for (k = C->xs[2]; k < C->ce[2]; k++)
+     each node's sum in one order on any number of ranks), a row (2D) or
+     plane (3D) at a time with the nodes' values around it: before the cells
+     of unit u, the cell materials' nodal velocity P^C_i / m^C_i at t^n of the
+     nodes up to unit u + 1, into the remap's scratch C->sVL (free until the
+     remap: the hourglass rates below read it, each node divided once per
+     step, not once per corner; nb: the local nodes done); after them, the
+     cell materials' momentum on the owned nodes up to unit u, which have all
+     the cells' sums (the ghosts' would count twice; nxt: the first unit
+     without it) */
+  for (k = C->xs[2]; k < C->ce[2]; k++) {
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
+      nb = ToGridNodes(C, dim, nb, PetscMin(PetscMax((dim == 3 ? k : j) + 2 + PS_PAD - ix->gs[dim - 1], 0) * unit, C->nnl));
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
       PetscCall(PSCellsEOSRow(S, j, k, n));
       if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, nw, W);
@@ -403,9 +417,19 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
           }
         }
       }
+      if (dim == 2) {
+        PSGridAddOwnedUnits(S, ix, C->P, dim, g + 1, dof, nxt, j + PS_PAD + 1);
+        nxt = j + PS_PAD + 1;
+      }
     }
-  /* the cell materials' momentum on the owned nodes (the ghosts' would count twice) */
-  PSGridAddOwned(S, ix, C->P, dim, g + 1, dof);
+    if (dim == 3) {
+      PSGridAddOwnedUnits(S, ix, C->P, dim, g + 1, dof, nxt, k + PS_PAD + 1);
+      nxt = k + PS_PAD + 1;
+    }
+  }
+  /* the nodes the loop above left */
+  (void)ToGridNodes(C, dim, nb, C->nnl);
+  PSGridAddOwnedUnits(S, ix, C->P, dim, g + 1, dof, nxt, PETSC_MAX_INT);
   PetscCall(PetscLogEventEnd(EV_C2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
