@@ -326,7 +326,6 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = !strength && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (without strength; -run_lanes 1: the scalar loop alone, for checks) */
-  const PetscInt  unit = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0]; /* (local nodes in a row, 2D, or plane, 3D) */
   PetscReal      *g = S->g, *W = C->sW;
   PetscInt        i, j, k, m, a, d, e, n = 0, orow, nb = 0, nxt = PETSC_MIN_INT;
 
@@ -347,7 +346,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   for (k = C->xs[2]; k < C->ce[2]; k++) {
     for (j = C->xs[1]; j < C->ce[1]; j++) {
       PetscInt ci0, oc0, xa, xb;
-      nb = ToGridNodes(C, dim, nb, PetscMin(PetscMax((dim == 3 ? k : j) + 2 + PS_PAD - ix->gs[dim - 1], 0) * unit, C->nnl));
+      nb = ToGridNodes(C, dim, nb, PSCellsNodesThrough(ix, dim, C->nnl, dim == 3 ? k : j));
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
       PetscCall(PSCellsEOSRow(S, j, k, n));
       if (lanes) ToGridGasLanes(S, dim, ci0, oc0, n, C->xs[0], C->ce[0] - C->xs[0], fs, nw, W);
@@ -721,8 +720,7 @@ static inline void CorrectNodes(PSSolver *S, const PSIndex *ix, PetscReal dt, co
    (3D), the upper corners of the cells of index u, from the local node *nb on */
 static inline void PredictNodesUpTo(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscBool musl, PetscInt u, PetscInt *nb)
 {
-  const PetscInt unit = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0];
-  const PetscInt e1   = PetscMin(PetscMax(u + 2 + PS_PAD - ix->gs[dim - 1], 0) * unit, S->cells->nnl);
+  const PetscInt e1 = PSCellsNodesThrough(ix, dim, S->cells->nnl, u);
   if (e1 > *nb) {
     PredictNodes(S, dim, musl, *nb, e1);
     *nb = e1;
