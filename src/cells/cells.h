@@ -250,14 +250,20 @@ static inline PetscInt PSCellsOwnedAxis(const PSIndex *ix, PetscInt d, PetscInt 
   return (lo ? lower[d] : 0) | (hi ? ~lower[d] & 0xff : 0);
 }
 
-/* the local nodes (a prefix of the local node array) in the rows along y
-   (2D) or planes along z (3D) up to the upper corners of the cells of index
-   u along that direction: what a phase that walks the cells a row or plane
-   at a time makes of its nodes' values before it reaches those cells */
+/* the local rows of nodes along y (2D) or planes along z (3D) up to the
+   upper corners of the cells of index u along that direction (not clipped
+   to the local array): what a phase that walks the cells a row or plane at
+   a time makes of its nodes' values before it reaches those cells */
+static inline PetscInt PSCellsUnitsThrough(const PSIndex *ix, PetscInt dim, PetscInt u)
+{
+  return PetscMax(u + 2 + PS_PAD - ix->gs[dim - 1], 0);
+}
+
+/* the same as a prefix of the local node array (nnl nodes) */
 static inline PetscInt PSCellsNodesThrough(const PSIndex *ix, PetscInt dim, PetscInt nnl, PetscInt u)
 {
   const PetscInt unit = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0];
-  return PetscMin(PetscMax(u + 2 + PS_PAD - ix->gs[dim - 1], 0) * unit, nnl);
+  return PetscMin(PSCellsUnitsThrough(ix, dim, u) * unit, nnl);
 }
 
 /* ... along y and z, for a row of cells (j, k) */

@@ -991,12 +991,14 @@ static inline PetscInt LagrangeNodes(PSSolver *S, const PSIndex *ix, const Petsc
   PSCells         *C   = S->cells;
   const PetscInt   dof = PSGridDof(S);
   const PetscReal *v   = S->g + 1; /* (v^{n+1}: component d of node o at v[dof o + d]) */
-  PetscInt         i, j, k, d, o;
+  PetscInt         i, j, k, d, o, lo[3] = {ix->gs[0], ix->gs[1], ix->gs[2]}, hi[3] = {ix->gs[0] + ix->gm[0], ix->gs[1] + ix->gm[1], ix->gs[2] + ix->gm[2]};
 
   u1 = PetscMin(u1, ix->gm[dim - 1]);
   if (u1 <= u0) return u0;
-  for (k = dim == 3 ? ix->gs[2] + u0 : ix->gs[2]; k < (dim == 3 ? ix->gs[2] + u1 : ix->gs[2] + ix->gm[2]); k++)
-    for (j = dim == 3 ? ix->gs[1] : ix->gs[1] + u0; j < (dim == 3 ? ix->gs[1] + ix->gm[1] : ix->gs[1] + u1); j++) {
+  lo[dim - 1] = ix->gs[dim - 1] + u0;
+  hi[dim - 1] = ix->gs[dim - 1] + u1;
+  for (k = lo[2]; k < hi[2]; k++)
+    for (j = lo[1]; j < hi[1]; j++) {
       const PetscInt   orow = Lidx(ix, 0, j, k), x0 = ix->gs[0], x1 = ix->gs[0] + ix->gm[0]; /* (node (i, j, k) is orow + i) */
       const PetscReal *vo = C->vo, *mcn = C->mcn; /* (locals: the row's loop in SIMD lanes) */
       PetscReal       *vh = C->vh, *P = C->P;
@@ -1039,7 +1041,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
     for (j = C->cs[1]; j < C->ce[1]; j++) {
       PetscInt       ci0, oc0;
       const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
-      nb = LagrangeNodes(S, ix, dim, nb, (dim == 3 ? k : j) + 2 + PS_PAD - ix->gs[dim - 1]); /* (the cells' upper corners' unit, u + 1 + PS_PAD, and those below) */
+      nb = LagrangeNodes(S, ix, dim, nb, PSCellsUnitsThrough(ix, dim, dim == 3 ? k : j));
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, NULL, NULL);
       if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, nw, W);
       for (i = C->cs[0]; i < C->ce[0]; i++) {

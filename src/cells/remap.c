@@ -152,67 +152,66 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
   const PetscReal    Vc = C->Vc, *U = C->u, *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
   const short       *Sole = C->sole;
   PetscReal         *A = fr->A, *sS = C->sS, *sP = C->sP, *sM = C->sM;
-  PetscInt           i, j, k, m, q, u;
+  PetscInt           i, j, m, q, u;
 
   for (u = u0; u < u1; u++) {
-    const PetscInt k0 = dim == 3 ? u : 0, j0 = dim == 3 ? 0 : u, j1 = dim == 3 ? n[1] : u + 1;
-    for (k = k0; k < k0 + 1; k++)
-      for (j = j0; j < j1; j++) {
-        /* the nearest cell of the ghosted box: its row's, then along x */
-        const PetscInt cr = PetscMin(PetscMax(j + o[1], gs[1]), gl[1]) * cst1 + (dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0) * cst2 - coff;
-        for (i = 0; i < n[0]; i++) {
-          const PetscInt   ci = cr + PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), sole = Sole[ci]; /* PSCellIdx */
-          const PetscReal *uc = &U[ms * ci], V = XV[ci];
-          PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
-          PetscInt         m0, m1, b;
-          /* a run of a gas's cells inside the ghosted row (not its copies
-             outside): FractionsRun, the same values in SIMD lanes */
-          if (lanes && sole >= 0 && i >= 1) {
-            b = i + PSCellsSoleRun(&Sole[ci], n[0] - 1 - i);
-            if (b - i >= PS_LANES_RUN) {
-              FractionsRun(C, sole, ci, b - i, a, ps, mk, w, W);
-              i = b - 1;
-              continue;
-            }
+    const PetscInt k = dim == 3 ? u : 0, j0 = dim == 3 ? 0 : u, j1 = dim == 3 ? n[1] : u + 1; /* (the unit's plane k, its rows [j0, j1)) */
+    for (j = j0; j < j1; j++) {
+      /* the nearest cell of the ghosted box: its row's, then along x */
+      const PetscInt cr = PetscMin(PetscMax(j + o[1], gs[1]), gl[1]) * cst1 + (dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0) * cst2 - coff;
+      for (i = 0; i < n[0]; i++) {
+        const PetscInt   ci = cr + PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), sole = Sole[ci]; /* PSCellIdx */
+        const PetscReal *uc = &U[ms * ci], V = XV[ci];
+        PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
+        PetscInt         m0, m1, b;
+        /* a run of a gas's cells inside the ghosted row (not its copies
+           outside): FractionsRun, the same values in SIMD lanes */
+        if (lanes && sole >= 0 && i >= 1) {
+          b = i + PSCellsSoleRun(&Sole[ci], n[0] - 1 - i);
+          if (b - i >= PS_LANES_RUN) {
+            FractionsRun(C, sole, ci, b - i, a, ps, mk, w, W);
+            i = b - 1;
+            continue;
           }
-          /* a cell with one material with mass: its density and the advected
-             quantities per unit mass, which the faces around it read three
-             times a sweep (donor, and neighbour of each side's donor) */
-          if (sole >= 0) {
-            const PetscReal *blk = &uc[sole * mst];
-            PetscReal       *sp  = &sS[(ms - 1) * ci];
-            sp[0]  = blk[PS_CM] / blk[PS_CV];
-            sM[ci] = blk[PS_CM];
-            if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
-            else
-              for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
-          }
-          /* (one division per cell, not one per participant) */
-          const PetscReal iV = 1.0 / V;
-          acc = PetscMin(XA[ci] * Vc * iV, 1.0);
-          if (mk) a[0] = acc;
-          /* the materials present add their volume; the others hold none (a
-             material without mass is zeroed where it loses it: adding their
-             0 changed no sum), and their planes are not read.  With them the
-             material that fills the cell alone, for the faces' fast path
-             (FaceRun): none in a cell of several or none, or with markers or
-             void above round-off (A_0, 1 - A_nm).  (A copy outside the
-             ghosted cells writes its nearest cell's value again: the same) */
-          if (sole >= 0) { /* (the loop below for one material, without its test per material) */
-            const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + uc[sole * mst + PS_CV] * iV, 1.0);
-            for (m = 0; m < sole; m++) a[(1 + m) * ps] = a1;
-            for (; m < nm; m++) a[(1 + m) * ps] = a2; /* (a[nm] = a2) */
-            sP[ci] = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && uc[sole * mst + PS_CV] > 0.999 * V ? sole : -1;
-          } else {
-            sP[ci] = -1.0;
-            PSCellsSoleRange(sole, nm, &m0, &m1);
-            for (m = 0; m < nm; m++) {
-              if (m >= m0 && m < m1) acc += uc[m * mst + PS_CV] * iV;
-              a[(1 + m) * ps] = PetscMin(acc, 1.0);
-            }
+        }
+        /* a cell with one material with mass: its density and the advected
+           quantities per unit mass, which the faces around it read three
+           times a sweep (donor, and neighbour of each side's donor) */
+        if (sole >= 0) {
+          const PetscReal *blk = &uc[sole * mst];
+          PetscReal       *sp  = &sS[(ms - 1) * ci];
+          sp[0]  = blk[PS_CM] / blk[PS_CV];
+          sM[ci] = blk[PS_CM];
+          if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
+          else
+            for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
+        }
+        /* (one division per cell, not one per participant) */
+        const PetscReal iV = 1.0 / V;
+        acc = PetscMin(XA[ci] * Vc * iV, 1.0);
+        if (mk) a[0] = acc;
+        /* the materials present add their volume; the others hold none (a
+           material without mass is zeroed where it loses it: adding their
+           0 changed no sum), and their planes are not read.  With them the
+           material that fills the cell alone, for the faces' fast path
+           (FaceRun): none in a cell of several or none, or with markers or
+           void above round-off (A_0, 1 - A_nm).  (A copy outside the
+           ghosted cells writes its nearest cell's value again: the same) */
+        if (sole >= 0) { /* (the loop below for one material, without its test per material) */
+          const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + uc[sole * mst + PS_CV] * iV, 1.0);
+          for (m = 0; m < sole; m++) a[(1 + m) * ps] = a1;
+          for (; m < nm; m++) a[(1 + m) * ps] = a2; /* (a[nm] = a2) */
+          sP[ci] = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && uc[sole * mst + PS_CV] > 0.999 * V ? sole : -1;
+        } else {
+          sP[ci] = -1.0;
+          PSCellsSoleRange(sole, nm, &m0, &m1);
+          for (m = 0; m < nm; m++) {
+            if (m >= m0 && m < m1) acc += uc[m * mst + PS_CV] * iV;
+            a[(1 + m) * ps] = PetscMin(acc, 1.0);
           }
         }
       }
+    }
     /* none on the ghosted array's two faces along d (their neighbours along
        d are not in it): those of the ghosted unit this unit copies, each
        time it is written (the last of its two writers, the unit beyond the
