@@ -105,8 +105,9 @@ if comm.getRank() == 0:
 # where a cell-update's time goes: each phase's log event (the slowest rank's
 # time, warm-up steps and every run included) in ns per cell and step, so the
 # phases can be set beside the time a target rate leaves for a whole step
-# (2x PyClaw's rate: 1e9 / (2 rate) ns).  At 128^2 the arrays fit in the L2
-# cache, so that size's figures are the phases' arithmetic alone
+# (2x PyClaw's rate: 1e9 / (2 rate) ns).  At 128^2 the arrays (about 10 MB)
+# sit in the caches, and the rate no longer depends on the size (one gas: the
+# same from 64^2 to 256^2), so that size's figures are the phases' arithmetic
 phases = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor", "PSCellsPredict"), ("Lagrange", "PSCellsLagrange"),
           ("remap", "PSCellsRemap"), ("nodal velocities", "PSCellsPrep"), ("fractions+faces+cells", "PSCellsFlux"), ("halo+masses", "PSCellsHalo"), ("KE fix", "PSCellsKE")]
 nstep = max(PETSc.Log.Event("PSCellsRemap").getPerfInfo()["count"], 1)
