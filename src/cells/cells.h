@@ -163,11 +163,6 @@ static inline PetscInt PSCellsHalfSize(const PSCells *C)
 #define PS_CELL_SEVERAL (-1)
 #define PS_CELL_EMPTY   (-2)
 
-/* the cell materials [m0, m1) a loop over ghosted cell ci's materials visits:
-   its one material with mass, or all (the others hold nothing: a material
-   without mass is zeroed where it loses it, remap.c and closure.c, so
-   skipping it changes no sum).  Valid from PSCellsNodalMass until the
-   cells' masses next change (the remap's sweeps, the fit) */
 /* the SIMD lanes' runs (lagrange.c, remap.c, closure.c): the length of the
    run of cells sole[0 .. n) with the same sole material as the first, and
    the shortest run the lanes take (a shorter one costs more than it saves) */
@@ -188,6 +183,11 @@ static inline PetscInt PSCellsSoleRun(const short *sole, PetscInt n)
   return b;
 }
 
+/* the cell materials [m0, m1) a loop over ghosted cell ci's materials visits:
+   its one material with mass, or all (the others hold nothing: a material
+   without mass is zeroed where it loses it, remap.c and closure.c, so
+   skipping it changes no sum).  Valid from PSCellsNodalMass until the
+   cells' masses next change (the remap's sweeps, the fit) */
 static inline void PSCellsSoleRange(PetscInt s, PetscInt nmat, PetscInt *m0, PetscInt *m1)
 {
   *m0 = s >= 0 ? s : 0;
