@@ -41,7 +41,7 @@ from mpi4py import MPI  # noqa: E402
 
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
-from benchlib import timed_steps  # noqa: E402  (scripts/benchlib.py)
+from benchlib import GAS, WALLS, quadrants_scene, timed_steps  # noqa: E402  (scripts/benchlib.py)
 
 opts = PETSc.Options()
 case = opts.getString("bench_case", "quadrants")
@@ -55,32 +55,23 @@ if case not in ("quadrants", "pure", "mixed"):
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
 
-walls = {"x-": "symmetry", "x+": "symmetry", "y-": "symmetry", "y+": "symmetry"}
-gas = {"type": "ideal-gas", "gamma": 1.4}
 if case == "quadrants":
-    # the quadrants: (name, x range, y range, rho, u, v, p)
-    Q = [("ur", (0.8, 1.0), (0.8, 1.0), 1.5, 0.0, 0.0, 1.5),
-         ("ul", (0.0, 0.8), (0.8, 1.0), 0.532258064516129, 1.206045378311055, 0.0, 0.3),
-         ("ll", (0.0, 0.8), (0.0, 0.8), 0.137992831541219, 1.206045378311055, 1.206045378311055, 0.029032258064516),
-         ("lr", (0.8, 1.0), (0.0, 0.8), 0.532258064516129, 0.0, 1.206045378311055, 0.3)]
-    mats = [Material(name, density=rho, eos=gas) for name, xr, yr, rho, u, v, p in Q]
-    bodies = [Body(name, box=Box([xr[0], yr[0]], [xr[1], yr[1]]), material=name, representation="cells", pressure=p, velocity=[u, v])
-              for name, xr, yr, rho, u, v, p in Q]
-    what, grid = "quadrants, 4 gas materials", Grid([0, 0], [1, 1], [n, n], walls)
+    scene = quadrants_scene(n)   # (benchlib.py: the four states, each a material)
+    what = "quadrants, 4 gas materials"
 else:
     # uniform flow (walls all round: in the steps timed the gas moves a few
     # cells, and only the cells next to the walls feel them)
     v = [0.5, 0.3]
     h = 1.0 / n
     if case == "pure":
-        mats = [Material("a", density=1.0, eos=gas)]
+        mats = [Material("a", density=1.0, eos=GAS)]
         bodies = [Body("a", box=Box([0, 0], [1, 1]), material="a", representation="cells", pressure=1.0, velocity=v)]
     else:
-        mats = [Material("a", density=1.0, eos=gas), Material("b", density=1.0, eos=gas)]
+        mats = [Material("a", density=1.0, eos=GAS), Material("b", density=1.0, eos=GAS)]
         bodies = [Body(f"s{i}", box=Box([max(0.0, (i - 0.5) * h), 0], [min(1.0, (i + 0.5) * h), 1]), material="ab"[i % 2],
                        representation="cells", pressure=1.0, velocity=v) for i in range(n + 1)]
-    what, grid = f"uniform flow, {'one gas' if case == 'pure' else 'two gases in half-cell stripes, every cell mixed'}", Grid([0, 0], [1, 1], [n, n], walls)
-scene = Scene(2, grid, mats, bodies, Run(t_end=10.0, cfl=0.4)).validate()
+    what = f"uniform flow, {'one gas' if case == 'pure' else 'two gases in half-cell stripes, every cell mixed'}"
+    scene = Scene(2, Grid([0, 0], [1, 1], [n, n], WALLS), mats, bodies, Run(t_end=10.0, cfl=0.4)).validate()
 # the remap's flux phase per cell and sweep (its log event; scripts/bench sets
 # it beside the stripped sweep of scripts/sweep_floor.c)
 PETSc.Log.begin()

@@ -25,9 +25,10 @@ def read(path):
             b[f[1]] = float(f[2])
         # PyClaw's rows: "2D quadrants roe_split 256x256 t=0.8  cells steps wall_med rate_med min..max ...":
         # the best of its runs (max), as bench_cells.py reports its own best
-        m = re.match(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+\d+\s+\S+\s+\S+\s+\S+\.\.(\S+)", line)
+        m = re.match(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+(\d+)\s+\S+\s+\S+\s+\S+\.\.(\S+)", line)
         if m:
-            b[f"pyclaw_{m.group(1)}"] = float(m.group(2)) * 1e6
+            b[f"pyclaw_{m.group(1)}"] = float(m.group(3)) * 1e6
+            b[f"pyclaw_steps_{m.group(1)}"] = float(m.group(2))
     return b
 
 
@@ -90,6 +91,17 @@ def main():
     if "cells_instructions_quadrants_128" in b:
         rows.append(("cells, quadrants 128^2, 1 rank: instructions per cell-update", f"{b['cells_instructions_quadrants_128']:.0f}",
                      "valgrind callgrind, the same on every run", "", "", ""))
+    # time to a solution: the quadrants at 128^2 to t = 0.3 at run.cfl 0.8 against the default 0.4 (scripts/bench_cfl.py)
+    if "cfl_wall_0.8_0.4" in b:
+        rows.append(("cells, quadrants 128^2 to t = 0.3, run.cfl 0.8 against 0.4, 1 rank", f"{b['cfl_wall_0.8_0.4']:.2f}x the wall time",
+                     f"density L1 error against 256^2: {b['cfl_err_0.8']:.3g} against {b['cfl_err_0.4']:.3g}", f"{b['cfl_err_0.8'] / b['cfl_err_0.4']:.3f}", "", ""))
+    # time to PyClaw's end time t = 0.2 at 256^2 (its best run's time: cells x steps / its best rate), as a speed ratio (> 1: faster)
+    for cfl in ("0.4", "0.8"):
+        k = f"cfl_t02_wall_256_{cfl}"
+        if k in b and "pyclaw_steps_256" in b:
+            pw = 256 * 256 * b["pyclaw_steps_256"] / b["pyclaw_256"]
+            rows.append((f"cells, quadrants 256^2 to t = 0.2, run.cfl {cfl}, 1 rank: time to it", f"{b[k]:.2f} s, {b[f'cfl_t02_steps_256_{cfl}']:.0f} steps",
+                         f"PyClaw's best run, same run: {pw:.2f} s, {b['pyclaw_steps_256']:.0f} steps", f"{pw / b[k]:.2f}", "", ""))
     if "nocells_calls" in b:
         rows.append(("elastic block (no cells): cells' phases entered", f"{b['nocells_calls']:.0f} times", "", "", "0", "yes" if b["nocells_calls"] == 0 else "no"))
     # contact (multi-field) against bonded, the oblique plate
