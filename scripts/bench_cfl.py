@@ -24,8 +24,9 @@ Lines BENCH cfl_<name> <value> for scripts/bench's table: cfl_wall_0.8_0.4
 (wall time at 0.8 over 0.4), cfl_steps_0.8_0.4, cfl_err_0.4 and cfl_err_0.8
 (L1 error against 256^2, kg/m^3 per cell), cfl_terr_0.4 and cfl_terr_0.8
 (against the 128^2 run at 0.2); cfl_t02_wall_256_<cfl> (s) and
-cfl_t02_steps_256_<cfl>.  Any number of ranks (each field gathered by rows,
-a benchmark-sized grid).
+cfl_t02_steps_256_<cfl>.  Any number of ranks (each run's cells gathered
+on every rank by verify_cells.cells_global to compare the fields: grids of
+a benchmark's size, 256^2 at most).
 """
 import sys
 import time
