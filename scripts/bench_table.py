@@ -87,6 +87,14 @@ def main():
         rows.append(("cells, remap flux phase, pure gas 256^2, 1 rank", f"{b['cells_flux_ns_pure_256_1']:.3g} ns/cell/sweep",
                      f"stripped one-gas sweep in SIMD passes, same run: {b['sweep_floor_ns_256']:.3g} ns"
                      + (f" (one pass {b['sweep_floor_onepass_ns_256']:.3g}, interleaved {b['sweep_floor_interleaved_ns_256']:.3g})" if "sweep_floor_interleaved_ns_256" in b else ""), f"{b['cells_flux_ns_pure_256_1'] / b['sweep_floor_ns_256']:.2f}", "", ""))
+    # the pure case's Lagrangian phases against the same arithmetic stripped of generality (lagrange_floor.c)
+    lag = [("P2G", "PSCellsP2G", "p2g"), ("grid", "PSGridUpdate", "grid"), ("predictor", "PSCellsPredict", "predictor"), ("Lagrange", "PSCellsLagrange", "lagrange")]
+    keys = [f"cells_phase_ns_{ev}_pure_256_1" for _, ev, _ in lag]
+    if all(k in b for k in keys) and "lagrange_floor_ns_256" in b:
+        tot = sum(b[k] for k in keys)
+        rows.append(("cells, Lagrangian phases, pure gas 256^2, 1 rank, ns per cell-update: " + ", ".join(f"{lab} {b[k]:.3g}" for (lab, _, _), k in zip(lag, keys)),
+                     f"{tot:.3g} ns", "stripped one-gas phases in SIMD passes, same run: " + ", ".join(f"{lab} {b[f'lagrange_floor_{fk}_ns_256']:.3g}" for lab, _, fk in lag)
+                     + f" = {b['lagrange_floor_ns_256']:.3g} ns (one pass {b['lagrange_floor_onepass_ns_256']:.3g})", f"{tot / b['lagrange_floor_ns_256']:.2f}", "", ""))
     # the same step counted in instructions (scripts/bench_instructions): no ratio, a figure that does not move with the machine's load
     if "cells_instructions_quadrants_128" in b:
         rows.append(("cells, quadrants 128^2, 1 rank: instructions per cell-update", f"{b['cells_instructions_quadrants_128']:.0f}",
