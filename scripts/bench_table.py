@@ -94,7 +94,8 @@ def main():
         tot = sum(b[k] for k in keys)
         rows.append(("cells, Lagrangian phases, pure gas 256^2, 1 rank, ns per cell-update: " + ", ".join(f"{lab} {b[k]:.3g}" for (lab, _, _), k in zip(lag, keys)),
                      f"{tot:.3g} ns", "stripped one-gas phases in SIMD passes, same run: " + ", ".join(f"{lab} {b[f'lagrange_floor_{fk}_ns_256']:.3g}" for lab, _, fk in lag)
-                     + f" = {b['lagrange_floor_ns_256']:.3g} ns (one pass {b['lagrange_floor_onepass_ns_256']:.3g})", f"{tot / b['lagrange_floor_ns_256']:.2f}", "", ""))
+                     + f" = {b['lagrange_floor_ns_256']:.3g} ns (one pass {b['lagrange_floor_onepass_ns_256']:.3g}"
+                     + (f", interleaved {b['lagrange_floor_interleaved_ns_256']:.3g})" if "lagrange_floor_interleaved_ns_256" in b else ")"), f"{tot / b['lagrange_floor_ns_256']:.2f}", "", ""))
     # the same step counted in instructions (scripts/bench_instructions): no ratio, a figure that does not move with the machine's load
     if "cells_instructions_quadrants_128" in b:
         rows.append(("cells, quadrants 128^2, 1 rank: instructions per cell-update", f"{b['cells_instructions_quadrants_128']:.0f}",

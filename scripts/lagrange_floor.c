@@ -29,12 +29,20 @@
   energy to round-off without a remap (Caramana et al., JCP 146, 1998), which
   the floor checks.  A gas at rest with a pressure bump, walls all round.
 
-  Two forms of the same arithmetic, run in turn and checked bitwise equal:
+  Three forms of the same arithmetic, run in turn and checked bitwise equal:
   - one pass: per row of cells, one loop that computes each cell's corner
-    values and adds them to its four nodes (the form of plyshock's loops);
+    values and adds them to its four nodes (the form of plyshock's scalar
+    loops);
   - passes: per row, the cells' corner values into planes (a loop free of
     loop-carried dependences, so the compiler runs it in SIMD lanes), then
-    each node row gathers its corners in the one pass's order.
+    each node row gathers its corners in the one pass's order (the form of
+    plyshock's lanes), an array per quantity;
+  - passes, interleaved: the same over plyshock's layout, a cell's mass,
+    volume and energy side by side (its material's block), its p and c side
+    by side (the EOS cache), its q^h and hourglass rates side by side (the
+    half-step slot), and a node's components side by side (plyshock's grid
+    array holds the node's mass beside them too; here it has an array of its
+    own): what the layout costs.
   Each phase is timed alone (clock_gettime around it, summed over the
   steps); the figure is ns per cell and step.  Built and run like
   sweep_floor.c, with the extension's optimisation flags:
@@ -56,20 +64,20 @@
 
 #define ALWAYS static inline __attribute__((always_inline))
 
-static inline double Min(double a, double b) { return a < b ? a : b; }
 static inline double Max(double a, double b) { return a < b ? b : a; }
 
-enum { NC = 10, NN = 13, NR = 9 }; /* cell arrays, node arrays, a row's corner planes */
 typedef struct {
-  int    n;                                     /* n x n cells, (n + 1)^2 nodes */
-  double h, Vc, dt, gam, g1, cl, cq, khg;       /* m, m^2 (2D), s, gamma, gamma - 1, viscosity, kappa / h / 4 */
-  double gN[4][2], sg[4];                       /* grad N_a at the centre (1/m); G(a), the hourglass mode's signs */
-  double *M, *V, *E, *Q, *p, *c, *gx, *gy, *qh, *ph; /* cells: mass, volume, energy, q, p, c, hourglass rates, q^h, p^h */
-  double *m, *Px, *Py, *vx, *vy, *fx, *fy, *sx, *sy, *hx, *hy, *dx, *dy; /* nodes: mass, momentum, v^n, f, v* (then v^{n+1}), v^{n+1/2}, df */
-  double *R;                                    /* a row's planes: the corners' mass and forces (plane a 2 + d + 1) */
-  double *S;                                    /* the signal speed of each cell of a row */
-  double smax;                                  /* the largest signal speed (m/s) */
-  double t[4];                                  /* each phase's time (s) */
+  int    n;                               /* n x n cells, (n + 1)^2 nodes */
+  double h, Vc, dt, gam, g1, cl, cq, khg; /* m, m^2 (2D), s, gamma, gamma - 1, viscosity, kappa / h / 4 */
+  /* cells: mass, volume, energy (stride CS), q and p^h (1), p and c (ES), q^h and the hourglass rates (HS) */
+  double *M, *V, *E, *Q, *ph, *p, *c, *qh, *gx, *gy;
+  /* nodes: mass (1); momentum, v^n, f, v* (then v^{n+1}), v^{n+1/2}, df (the components VS apart) */
+  double *m, *Px, *Py, *vx, *vy, *fx, *fy, *sx, *sy, *hx, *hy, *dx, *dy;
+  double *R;     /* a row's planes: the corners' mass and forces (plane 2 a + d + 1) */
+  double *S;     /* the signal speed of each cell of a row */
+  double  smax;  /* the largest signal speed (m/s) */
+  double  t[4];  /* each phase's time (s) */
+  double *mem[8]; /* (the allocations) */
 } Fl;
 
 static double Now(void)
@@ -79,20 +87,26 @@ static double Now(void)
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* a row's corner values to the nodes: node row j takes corners 1 (cell
-   i - 1) and 0 (cell i) after what row j - 1 left; node row j + 1 starts
-   with corners 3 and 2, in the one pass's order of the sums */
-ALWAYS void Gather(int n, const double *restrict c0, const double *restrict c1, const double *restrict c2, const double *restrict c3, double *restrict lo, double *restrict up)
+/* the strides of form il (0: an array per quantity; 1: interleaved) */
+#define CS (il ? 3 : 1)
+#define ES (il ? 2 : 1)
+#define HS (il ? 3 : 1)
+#define VS (il ? 2 : 1)
+
+/* a row's corner values to the nodes (stride vs): node row j takes corners
+   1 (cell i - 1) and 0 (cell i) after what row j - 1 left; node row j + 1
+   starts with corners 3 and 2, in the one pass's order of the sums */
+ALWAYS void Gather(int n, const int vs, const double *restrict c0, const double *restrict c1, const double *restrict c2, const double *restrict c3, double *restrict lo, double *restrict up)
 {
   int i;
   lo[0] = lo[0] + c0[0];
   up[0] = 0.0 + c2[0];
   for (i = 1; i < n; i++) {
-    lo[i] = (lo[i] + c1[i - 1]) + c0[i];
-    up[i] = (0.0 + c3[i - 1]) + c2[i];
+    lo[vs * i] = (lo[vs * i] + c1[i - 1]) + c0[i];
+    up[vs * i] = (0.0 + c3[i - 1]) + c2[i];
   }
-  lo[n] = lo[n] + c1[n - 1];
-  up[n] = 0.0 + c3[n - 1];
+  lo[vs * n] = lo[vs * n] + c1[n - 1];
+  up[vs * n] = 0.0 + c3[n - 1];
 }
 
 /* a corner's value to its node in the one pass */
@@ -104,8 +118,13 @@ ALWAYS double Viscosity(double rho, double h, double trD, double c, double cl, d
   return trD < 0.0 ? qv : 0.0;
 }
 
+/* grad N_a at the centre (1/m) and G(a), the hourglass mode's signs, of the
+   corners a = (0,0), (1,0), (0,1), (1,1) */
+#define CORNERS \
+  const double g = 0.5 / F->h, gN[4][2] = {{-g, -g}, {g, -g}, {-g, g}, {g, g}}, sg[4] = {1.0, -1.0, -1.0, 1.0}
+
 /* P2G: EOS, v^n, corner masses and forces to the nodes */
-ALWAYS void P2G(Fl *F, const int onepass)
+ALWAYS void P2G(Fl *F, const int onepass, const int il)
 {
   const int n = F->n, nn = n + 1;
   double *restrict M = F->M, *restrict V = F->V, *restrict E = F->E, *restrict Q = F->Q, *restrict p = F->p, *restrict c = F->c, *restrict gx = F->gx, *restrict gy = F->gy;
@@ -113,22 +132,20 @@ ALWAYS void P2G(Fl *F, const int onepass)
   const double *restrict Px = F->Px, *restrict Py = F->Py;
   const double g1 = F->g1, gam = F->gam, Vc = F->Vc, khg = F->khg;
   int          x, j, a;
-  const double g = 0.5 / F->h, gN[4][2] = {{-g, -g}, {g, -g}, {-g, g}, {g, g}}, sg[4] = {1.0, -1.0, -1.0, 1.0}; /* grad N_a at the centre, G(a) */
+  CORNERS;
 
   for (x = 0; x < n * n; x++) {
-    p[x] = g1 * E[x] / V[x];
-    c[x] = sqrt(gam * p[x] * V[x] / M[x]);
+    p[ES * x] = g1 * E[CS * x] / V[CS * x];
+    c[ES * x] = sqrt(gam * p[ES * x] * V[CS * x] / M[CS * x]);
   }
   for (x = 0; x < nn * nn; x++) {
-    vx[x] = Px[x] / m[x];
-    vy[x] = Py[x] / m[x];
+    vx[VS * x] = Px[VS * x] / m[x];
+    vy[VS * x] = Py[VS * x] / m[x];
   }
   if (onepass) {
-    memset(m, 0, sizeof(double) * nn * nn);
-    memset(fx, 0, sizeof(double) * nn * nn);
-    memset(fy, 0, sizeof(double) * nn * nn);
+    for (x = 0; x < nn * nn; x++) m[x] = fx[VS * x] = fy[VS * x] = 0.0;
   } else {
-    for (x = 0; x < nn; x++) m[x] = fx[x] = fy[x] = 0.0;
+    for (x = 0; x < nn; x++) m[x] = fx[VS * x] = fy[VS * x] = 0.0;
   }
   for (j = 0; j < n; j++) {
     double *restrict R = F->R;
@@ -136,42 +153,39 @@ ALWAYS void P2G(Fl *F, const int onepass)
 #pragma GCC ivdep
     for (i = 0; i < n; i++) {
       const int    ci = j * n + i, o0 = j * nn + i, o[4] = {o0, o0 + 1, o0 + nn, o0 + nn + 1};
-      const double sgm = 0.0 - Vc * p[ci] - Vc * Q[ci], kap = khg * M[ci] * c[ci];
+      const double sgm = 0.0 - Vc * p[ES * ci] - Vc * Q[ci], kap = khg * M[CS * ci] * c[ES * ci];
       double       hgx = 0.0, hgy = 0.0;
 #pragma GCC unroll 4
       for (a = 0; a < 4; a++) {
-        hgx += sg[a] * vx[o[a]];
-        hgy += sg[a] * vy[o[a]];
+        hgx += sg[a] * vx[VS * o[a]];
+        hgy += sg[a] * vy[VS * o[a]];
       }
-      gx[ci] = hgx;
-      gy[ci] = hgy;
+      gx[HS * ci] = hgx;
+      gy[HS * ci] = hgy;
 #pragma GCC unroll 4
       for (a = 0; a < 4; a++) {
         const double fa = (0.0 - sgm * gN[a][0]) - kap * sg[a] * hgx, fb = (0.0 - sgm * gN[a][1]) - kap * sg[a] * hgy;
         if (onepass) {
-          ADD(m, o[a], M[ci] / 4);
-          ADD(fx, o[a], fa);
-          ADD(fy, o[a], fb);
+          ADD(m, o[a], M[CS * ci] / 4);
+          ADD(fx, VS * o[a], fa);
+          ADD(fy, VS * o[a], fb);
         } else {
           R[(2 * a + 1) * n + i] = fa;
           R[(2 * a + 2) * n + i] = fb;
         }
       }
-      if (!onepass) R[i] = M[ci] / 4;
+      if (!onepass) R[i] = M[CS * ci] / 4;
     }
     if (!onepass) {
-      Gather(n, R, R, R, R, &m[j * nn], &m[(j + 1) * nn]);
-      Gather(n, &R[1 * n], &R[3 * n], &R[5 * n], &R[7 * n], &fx[j * nn], &fx[(j + 1) * nn]);
-      Gather(n, &R[2 * n], &R[4 * n], &R[6 * n], &R[8 * n], &fy[j * nn], &fy[(j + 1) * nn]);
+      Gather(n, 1, R, R, R, R, &m[j * nn], &m[(j + 1) * nn]);
+      Gather(n, VS, &R[1 * n], &R[3 * n], &R[5 * n], &R[7 * n], &fx[VS * j * nn], &fx[VS * (j + 1) * nn]);
+      Gather(n, VS, &R[2 * n], &R[4 * n], &R[6 * n], &R[8 * n], &fy[VS * j * nn], &fy[VS * (j + 1) * nn]);
     }
   }
 }
 
-/* a node on a wall (held at rest) */
-static inline int Wall(int n, int x) { return x % (n + 1) == 0 || x % (n + 1) == n || x < n + 1 || x >= n * (n + 1); }
-
-/* the grid update v* = v^n + dt f / m */
-ALWAYS void Grid(Fl *F)
+/* the grid update v* = v^n + dt f / m, walls all round (a wall node held at rest) */
+ALWAYS void Grid(Fl *F, const int il)
 {
   const int              n = F->n, nn = n + 1;
   const double *restrict vx = F->vx, *restrict vy = F->vy, *restrict fx = F->fx, *restrict fy = F->fy, *restrict m = F->m, dt = F->dt;
@@ -181,31 +195,30 @@ ALWAYS void Grid(Fl *F)
     const int w = j == 0 || j == n;
     for (i = 0; i < nn; i++) {
       const int x = j * nn + i, in = !w && i > 0 && i < n;
-      sx[x] = in ? vx[x] + dt * fx[x] / m[x] : 0.0;
-      sy[x] = in ? vy[x] + dt * fy[x] / m[x] : 0.0;
+      sx[VS * x] = in ? vx[VS * x] + dt * fx[VS * x] / m[x] : 0.0;
+      sy[VS * x] = in ? vy[VS * x] + dt * fy[VS * x] / m[x] : 0.0;
     }
   }
 }
 
 /* the predictor (the force's change at v^{n+1/2*}) and the corrector */
-ALWAYS void Predict(Fl *F, const int onepass)
+ALWAYS void Predict(Fl *F, const int onepass, const int il)
 {
   const int n = F->n, nn = n + 1;
   double *restrict M = F->M, *restrict V = F->V, *restrict E = F->E, *restrict Q = F->Q, *restrict p = F->p, *restrict c = F->c, *restrict gx = F->gx, *restrict gy = F->gy, *restrict qh = F->qh, *restrict ph = F->ph;
   double *restrict m = F->m, *restrict vx = F->vx, *restrict vy = F->vy, *restrict sx = F->sx, *restrict sy = F->sy, *restrict hx = F->hx, *restrict hy = F->hy, *restrict dx = F->dx, *restrict dy = F->dy;
   const double g1 = F->g1, Vc = F->Vc, khg = F->khg, dt = F->dt, h = F->h, cl = F->cl, cq = F->cq;
   int          x, j, a;
-  const double g = 0.5 / F->h, gN[4][2] = {{-g, -g}, {g, -g}, {-g, g}, {g, g}}, sg[4] = {1.0, -1.0, -1.0, 1.0}; /* grad N_a at the centre, G(a) */
+  CORNERS;
 
   for (x = 0; x < nn * nn; x++) {
-    hx[x] = 0.5 * (vx[x] + sx[x]);
-    hy[x] = 0.5 * (vy[x] + sy[x]);
+    hx[VS * x] = 0.5 * (vx[VS * x] + sx[VS * x]);
+    hy[VS * x] = 0.5 * (vy[VS * x] + sy[VS * x]);
   }
   if (onepass) {
-    memset(dx, 0, sizeof(double) * nn * nn);
-    memset(dy, 0, sizeof(double) * nn * nn);
+    for (x = 0; x < nn * nn; x++) dx[VS * x] = dy[VS * x] = 0.0;
   } else {
-    for (x = 0; x < nn; x++) dx[x] = dy[x] = 0.0;
+    for (x = 0; x < nn; x++) dx[VS * x] = dy[VS * x] = 0.0;
   }
   for (j = 0; j < n; j++) {
     double *restrict R = F->R;
@@ -216,37 +229,38 @@ ALWAYS void Predict(Fl *F, const int onepass)
       double    L0 = 0.0, L1 = 0.0, hgx = 0.0, hgy = 0.0;
 #pragma GCC unroll 4
       for (a = 0; a < 4; a++) {
-        L0 += hx[o[a]] * gN[a][0];
-        L1 += hy[o[a]] * gN[a][1];
+        L0 += hx[VS * o[a]] * gN[a][0];
+        L1 += hy[VS * o[a]] * gN[a][1];
       }
+      const double Mc = M[CS * ci], Vo = V[CS * ci], pn = p[ES * ci], cn = c[ES * ci];
       const double trD = L0 + L1, dVh = 0.5 * Vc * dt * trD;
-      const double V1 = Max(V[ci] + dVh, 0.5 * V[ci]), dV = V1 - V[ci], iV1 = 1.0 / V1;
-      const double den = 1.0 + 0.5 * g1 * dV * iV1, pk = Max(g1 * iV1 * (E[ci] - dV * (0.5 * p[ci] + Q[ci])) / den, 0.0);
-      const double q = Viscosity(M[ci] / V1, h, trD, c[ci], cl, cq), ds = 0.0 - Vc * (pk + q - p[ci] - Q[ci]), kap = khg * M[ci] * c[ci];
+      const double V1 = Max(Vo + dVh, 0.5 * Vo), dV = V1 - Vo, iV1 = 1.0 / V1;
+      const double den = 1.0 + 0.5 * g1 * dV * iV1, pk = Max(g1 * iV1 * (E[CS * ci] - dV * (0.5 * pn + Q[ci])) / den, 0.0);
+      const double q = Viscosity(Mc / V1, h, trD, cn, cl, cq), ds = 0.0 - Vc * (pk + q - pn - Q[ci]), kap = khg * Mc * cn;
 #pragma GCC unroll 4
       for (a = 0; a < 4; a++) {
-        hgx += sg[a] * hx[o[a]];
-        hgy += sg[a] * hy[o[a]];
+        hgx += sg[a] * hx[VS * o[a]];
+        hgy += sg[a] * hy[VS * o[a]];
       }
 #pragma GCC unroll 4
       for (a = 0; a < 4; a++) {
-        const double fa = (0.0 - ds * gN[a][0]) - kap * sg[a] * (hgx - gx[ci]), fb = (0.0 - ds * gN[a][1]) - kap * sg[a] * (hgy - gy[ci]);
+        const double fa = (0.0 - ds * gN[a][0]) - kap * sg[a] * (hgx - gx[HS * ci]), fb = (0.0 - ds * gN[a][1]) - kap * sg[a] * (hgy - gy[HS * ci]);
         if (onepass) {
-          ADD(dx, o[a], fa);
-          ADD(dy, o[a], fb);
+          ADD(dx, VS * o[a], fa);
+          ADD(dy, VS * o[a], fb);
         } else {
           R[(2 * a + 1) * n + i] = fa;
           R[(2 * a + 2) * n + i] = fb;
         }
       }
-      gx[ci] = hgx;
-      gy[ci] = hgy;
-      qh[ci] = q;
-      ph[ci] = pk;
+      gx[HS * ci] = hgx;
+      gy[HS * ci] = hgy;
+      qh[HS * ci] = q;
+      ph[ci]      = pk;
     }
     if (!onepass) {
-      Gather(n, &R[1 * n], &R[3 * n], &R[5 * n], &R[7 * n], &dx[j * nn], &dx[(j + 1) * nn]);
-      Gather(n, &R[2 * n], &R[4 * n], &R[6 * n], &R[8 * n], &dy[j * nn], &dy[(j + 1) * nn]);
+      Gather(n, VS, &R[1 * n], &R[3 * n], &R[5 * n], &R[7 * n], &dx[VS * j * nn], &dx[VS * (j + 1) * nn]);
+      Gather(n, VS, &R[2 * n], &R[4 * n], &R[6 * n], &R[8 * n], &dy[VS * j * nn], &dy[VS * (j + 1) * nn]);
     }
   }
   /* the corrector: v^{n+1} = v* + dt df / m (into sx, sy) */
@@ -255,14 +269,14 @@ ALWAYS void Predict(Fl *F, const int onepass)
     int       i;
     for (i = 0; i < nn; i++) {
       const int o = j * nn + i, in = !w && i > 0 && i < n;
-      sx[o] = in ? sx[o] + dt * dx[o] / m[o] : 0.0;
-      sy[o] = in ? sy[o] + dt * dy[o] / m[o] : 0.0;
+      sx[VS * o] = in ? sx[VS * o] + dt * dx[VS * o] / m[o] : 0.0;
+      sy[VS * o] = in ? sy[VS * o] + dt * dy[VS * o] / m[o] : 0.0;
     }
   }
 }
 
 /* the Lagrangian phase: P = m v^{n+1}, the cells' volume and energy */
-ALWAYS void Lagrange(Fl *F)
+ALWAYS void Lagrange(Fl *F, const int il)
 {
   const int n = F->n, nn = n + 1;
   double *restrict M = F->M, *restrict V = F->V, *restrict E = F->E, *restrict Q = F->Q, *restrict c = F->c, *restrict gx = F->gx, *restrict gy = F->gy, *restrict qh = F->qh, *restrict ph = F->ph;
@@ -270,13 +284,13 @@ ALWAYS void Lagrange(Fl *F)
   const double Vc = F->Vc, khg = F->khg, dt = F->dt, h = F->h, cl = F->cl, cq = F->cq;
   double       smax = F->smax;
   int          x, j, a;
-  const double g = 0.5 / F->h, gN[4][2] = {{-g, -g}, {g, -g}, {-g, g}, {g, g}}, sg[4] = {1.0, -1.0, -1.0, 1.0}; /* grad N_a at the centre, G(a) */
+  CORNERS;
 
   for (x = 0; x < nn * nn; x++) {
-    hx[x] = 0.5 * (vx[x] + sx[x]);
-    hy[x] = 0.5 * (vy[x] + sy[x]);
-    Px[x] = m[x] * sx[x];
-    Py[x] = m[x] * sy[x];
+    hx[VS * x] = 0.5 * (vx[VS * x] + sx[VS * x]);
+    hy[VS * x] = 0.5 * (vy[VS * x] + sy[VS * x]);
+    Px[VS * x] = m[x] * sx[VS * x];
+    Py[VS * x] = m[x] * sy[VS * x];
   }
   for (j = 0; j < n; j++) {
     int i;
@@ -286,22 +300,23 @@ ALWAYS void Lagrange(Fl *F)
       double    L0 = 0.0, L1 = 0.0, v2max = 0.0, hgx = 0.0, hgy = 0.0, hgw = 0.0;
 #pragma GCC unroll 4
       for (a = 0; a < 4; a++) {
-        const double v2 = hx[o[a]] * hx[o[a]] + hy[o[a]] * hy[o[a]];
-        L0 += hx[o[a]] * gN[a][0];
-        L1 += hy[o[a]] * gN[a][1];
+        const double ux = hx[VS * o[a]], uy = hy[VS * o[a]], v2 = ux * ux + uy * uy;
+        L0 += ux * gN[a][0];
+        L1 += uy * gN[a][1];
         v2max = Max(v2max, v2);
-        hgx += sg[a] * hx[o[a]];
-        hgy += sg[a] * hy[o[a]];
+        hgx += sg[a] * ux;
+        hgy += sg[a] * uy;
       }
-      const double trD = L0 + L1, dV = Vc * dt * trD, rho = M[ci] / V[ci], q = Viscosity(rho, h, trD, c[ci], cl, cq), kap = khg * M[ci] * c[ci];
-      hgw += kap * gx[ci] * hgx * dt;
-      hgw += kap * gy[ci] * hgy * dt;
-      E[ci] = E[ci] + hgw - (ph[ci] + qh[ci]) * dV;
-      V[ci] = V[ci] + dV;
-      Q[ci] = q;
+      const double Mc = M[CS * ci], cn = c[ES * ci];
+      const double trD = L0 + L1, dV = Vc * dt * trD, rho = Mc / V[CS * ci], q = Viscosity(rho, h, trD, cn, cl, cq), kap = khg * Mc * cn;
+      hgw += kap * gx[HS * ci] * hgx * dt;
+      hgw += kap * gy[HS * ci] * hgy * dt;
+      E[CS * ci] = E[CS * ci] + hgw - (ph[ci] + qh[HS * ci]) * dV;
+      V[CS * ci] = V[CS * ci] + dV;
+      Q[ci]      = q;
       /* the time step's signal speed (c kept at least sqrt(q/rho)/2) */
-      const double cq2 = Max(c[ci], 0.5 * sqrt(q / rho)), sq = q > 0.0 ? q / (rho * cq2) : 0.0;
-      S[i] = c[ci] + sqrt(v2max) + sq;
+      const double cq2 = Max(cn, 0.5 * sqrt(q / rho)), sq = q > 0.0 ? q / (rho * cq2) : 0.0;
+      S[i] = cn + sqrt(v2max) + sq;
     }
     for (i = 0; i < n; i++) smax = Max(smax, S[i]);
   }
@@ -309,16 +324,16 @@ ALWAYS void Lagrange(Fl *F)
 }
 
 /* one step, each phase timed */
-ALWAYS void Step(Fl *F, const int onepass)
+ALWAYS void Step(Fl *F, const int onepass, const int il)
 {
   double t0 = Now(), t1, t2, t3, t4;
-  P2G(F, onepass);
+  P2G(F, onepass, il);
   t1 = Now();
-  Grid(F);
+  Grid(F, il);
   t2 = Now();
-  Predict(F, onepass);
+  Predict(F, onepass, il);
   t3 = Now();
-  Lagrange(F);
+  Lagrange(F, il);
   t4 = Now();
   F->t[0] += t1 - t0;
   F->t[1] += t2 - t1;
@@ -326,19 +341,44 @@ ALWAYS void Step(Fl *F, const int onepass)
   F->t[3] += t4 - t3;
 }
 
-/* the forms, each compiled with its constant */
+/* the forms, each compiled with its constants */
 static void Steps(Fl *F, int form, int steps)
 {
   int s;
   for (s = 0; s < steps; s++) {
-    if (form == 0) Step(F, 1);
-    else Step(F, 0);
+    if (form == 0) Step(F, 1, 0);
+    else if (form == 1) Step(F, 0, 0);
+    else Step(F, 0, 1);
   }
+}
+
+/* form il's arrays: an array per quantity, or interleaved (CS, ES, HS, VS) */
+static int Alloc(Fl *F, int il)
+{
+  const size_t nc = (size_t)F->n * F->n, nv = (size_t)(F->n + 1) * (F->n + 1);
+  double     **cell3[3] = {&F->M, &F->V, &F->E}, **cellE[2] = {&F->p, &F->c}, **cellH[3] = {&F->qh, &F->gx, &F->gy}, **cell1[2] = {&F->Q, &F->ph};
+  double     **nodeV[12] = {&F->Px, &F->Py, &F->vx, &F->vy, &F->fx, &F->fy, &F->sx, &F->sy, &F->hx, &F->hy, &F->dx, &F->dy};
+  int          i, k = 0;
+  for (i = 0; i < 8; i++)
+    if (!(F->mem[i] = calloc(12 * nv, sizeof(double)))) return 0;
+  /* (each group in an allocation of its own, interleaved or in consecutive planes) */
+  for (i = 0; i < 3; i++) *cell3[i] = F->mem[0] + (il ? (size_t)i : i * nc);
+  for (i = 0; i < 2; i++) *cellE[i] = F->mem[1] + (il ? (size_t)i : i * nc);
+  for (i = 0; i < 3; i++) *cellH[i] = F->mem[2] + (il ? (size_t)i : i * nc);
+  for (i = 0; i < 2; i++) *cell1[i] = F->mem[3] + i * nc;
+  for (i = 0; i < 12; i += 2, k++) {
+    *nodeV[i]     = F->mem[4 + k % 3] + (k / 3) * 2 * nv;
+    *nodeV[i + 1] = *nodeV[i] + (il ? 1 : nv);
+  }
+  F->m = F->mem[7];
+  F->R = F->mem[7] + nv;
+  F->S = F->R + 9 * F->n;
+  return 1;
 }
 
 /* a gas of density 1 at rest, pressure 1 with a bump of 0.5 at the centre,
    gamma 1.4 */
-static void Init(Fl *F)
+static void Init(Fl *F, int il)
 {
   const int n = F->n, nn = n + 1;
   int       i, j, a;
@@ -346,43 +386,52 @@ static void Init(Fl *F)
     for (i = 0; i < n; i++) {
       const int    ci = j * n + i;
       const double x = (i + 0.5) * F->h - 0.5, y = (j + 0.5) * F->h - 0.5, p0 = 1.0 + 0.5 * exp(-(x * x + y * y) / 0.01);
-      F->M[ci] = F->Vc;
-      F->V[ci] = F->Vc;
-      F->E[ci] = p0 * F->Vc / F->g1;
-      F->Q[ci] = 0.0;
+      F->M[CS * ci] = F->Vc;
+      F->V[CS * ci] = F->Vc;
+      F->E[CS * ci] = p0 * F->Vc / F->g1;
+      F->Q[ci]      = 0.0;
     }
-  for (i = 0; i < nn * nn; i++) F->m[i] = F->Px[i] = F->Py[i] = 0.0;
+  for (i = 0; i < nn * nn; i++) F->m[i] = F->Px[VS * i] = F->Py[VS * i] = 0.0;
   for (j = 0; j < n; j++)
     for (i = 0; i < n; i++)
-      for (a = 0; a < 4; a++) F->m[(j + (a >> 1)) * nn + i + (a & 1)] += F->M[j * n + i] / 4;
+      for (a = 0; a < 4; a++) F->m[(j + (a >> 1)) * nn + i + (a & 1)] += F->M[CS * (j * n + i)] / 4;
   F->smax = 0.0;
   for (i = 0; i < 4; i++) F->t[i] = 0.0;
 }
 
-static double Energy(const Fl *F)
+static double Energy(const Fl *F, int il)
 {
   const int n = F->n, nn = n + 1;
   double    e = 0.0;
   int       x;
-  for (x = 0; x < n * n; x++) e += F->E[x];
-  for (x = 0; x < nn * nn; x++) e += 0.5 * (F->Px[x] * F->Px[x] + F->Py[x] * F->Py[x]) / F->m[x];
+  for (x = 0; x < n * n; x++) e += F->E[CS * x];
+  for (x = 0; x < nn * nn; x++) e += 0.5 * (F->Px[VS * x] * F->Px[VS * x] + F->Py[VS * x] * F->Py[VS * x]) / F->m[x];
   return e;
+}
+
+/* form f's value of quantity q (0 E, 1 V, 2 Q, 3 gx: cells; 4 Px, 5 Py: nodes) of cell or node x */
+static double Value(const Fl *F, int form, int q, int x)
+{
+  const int il = form == 2;
+  const double *a[6] = {F->E, F->V, F->Q, F->gx, F->Px, F->Py};
+  const int     st[6] = {CS, CS, 1, HS, VS, VS};
+  return a[q][st[q] * x];
 }
 
 int main(int argc, char **argv)
 {
   const int   n = argc > 1 ? atoi(argv[1]) : 256, steps = argc > 2 ? atoi(argv[2]) : 100, nn = n + 1;
-  const char *name[2] = {"one pass", "passes"}, *phase[4] = {"P2G", "grid", "predictor", "Lagrange"};
-  const char *key[4] = {"p2g", "grid", "predictor", "lagrange"};
-  Fl          F[2];
-  double      best[2] = {1e300, 1e300}, bt[2][4] = {{0}}, e0 = 0.0, e1[2] = {0, 0}, tot;
-  int         form, run, i, a, ok = 1, same = 1;
+  const char *name[3] = {"one pass", "passes", "passes, interleaved"}, *phase[4] = {"P2G", "grid", "predictor", "Lagrange"};
+  const char *key[4] = {"p2g", "grid", "predictor", "lagrange"}, *fkey[3] = {"_onepass", "", "_interleaved"};
+  Fl          F[3];
+  double      best[3] = {1e300, 1e300, 1e300}, bt[3][4] = {{0}}, e0 = 0.0, e1[3] = {0, 0, 0};
+  int         form, run, i, q, ok = 1, same = 1, cons = 1;
 
   if (n < 4 || steps < 1) {
     fprintf(stderr, "lagrange_floor: n must be >= 4 and steps >= 1 (got %d, %d)\n", n, steps);
     return 2;
   }
-  for (form = 0; form < 2; form++) {
+  for (form = 0; form < 3; form++) {
     Fl *f = &F[form];
     memset(f, 0, sizeof(*f));
     f->n   = n;
@@ -394,56 +443,46 @@ int main(int argc, char **argv)
     f->cq  = 2.0;
     f->khg = 0.1 / f->h / 4; /* cells.c: kappa 0.1 / min h / 2^dim */
     f->dt  = 0.4 * f->h / 1.6; /* run.cfl 0.4 over c (at most 1.53 here) + |v| */
-    for (a = 0; a < 4; a++) {
-      f->gN[a][0] = (a & 1 ? 0.5 : -0.5) / f->h;
-      f->gN[a][1] = (a & 2 ? 0.5 : -0.5) / f->h;
-      f->sg[a]    = (a == 0 || a == 3) ? 1.0 : -1.0;
-    }
-    double **cell[NC] = {&f->M, &f->V, &f->E, &f->Q, &f->p, &f->c, &f->gx, &f->gy, &f->qh, &f->ph};
-    double **node[NN] = {&f->m, &f->Px, &f->Py, &f->vx, &f->vy, &f->fx, &f->fy, &f->sx, &f->sy, &f->hx, &f->hy, &f->dx, &f->dy};
-    for (i = 0; i < NC; i++) ok = ok && (*cell[i] = calloc((size_t)n * n, sizeof(double)));
-    for (i = 0; i < NN; i++) ok = ok && (*node[i] = calloc((size_t)nn * nn, sizeof(double)));
-    ok = ok && (f->R = calloc((size_t)NR * n, sizeof(double))) && (f->S = calloc((size_t)n, sizeof(double)));
+    ok     = ok && Alloc(f, form == 2);
   }
   if (!ok) {
     fprintf(stderr, "lagrange_floor: out of memory\n");
     return 2;
   }
   for (run = 0; run < 5; run++)
-    for (form = 0; form < 2; form++) {
+    for (form = 0; form < 3; form++) {
       double t;
-      Init(&F[form]);
-      if (!run && !form) e0 = Energy(&F[0]);
+      Init(&F[form], form == 2);
+      if (!run && !form) e0 = Energy(&F[0], 0);
       Steps(&F[form], form, steps);
       t = F[form].t[0] + F[form].t[1] + F[form].t[2] + F[form].t[3];
       if (t < best[form]) {
         best[form] = t;
         for (i = 0; i < 4; i++) bt[form][i] = F[form].t[i];
       }
-      e1[form] = Energy(&F[form]);
+      e1[form] = Energy(&F[form], form == 2);
     }
   /* the total energy (the cells' internal, the nodes' kinetic) to round-off;
      the forms the same, every value finite */
-  {
-    double *const a0[6] = {F[0].E, F[0].V, F[0].Q, F[0].Px, F[0].Py, F[0].gx}, *const a1[6] = {F[1].E, F[1].V, F[1].Q, F[1].Px, F[1].Py, F[1].gx};
-    int           q;
+  for (form = 0; form < 3; form++) {
+    cons = cons && fabs(e1[form] - e0) <= 1e-12 * e0;
     for (q = 0; q < 6; q++)
-      for (i = 0; i < (q == 3 || q == 4 ? nn * nn : n * n); i++) same = same && isfinite(a1[q][i]) && a0[q][i] == a1[q][i];
-    same = same && F[0].smax == F[1].smax;
+      for (i = 0; i < (q < 4 ? n * n : nn * nn); i++) same = same && isfinite(Value(&F[1], 1, q, i)) && Value(&F[form], form, q, i) == Value(&F[1], 1, q, i);
+    same = same && F[form].smax == F[1].smax;
   }
-  if (!(fabs(e1[1] - e0) <= 1e-12 * e0) || !(fabs(e1[0] - e0) <= 1e-12 * e0) || !same) {
-    fprintf(stderr, "lagrange_floor: energy %.17g, %.17g after the steps, %.17g before; the forms %s\n", e1[0], e1[1], e0, same ? "agree, finite" : "differ, or a value is not finite");
+  if (!cons || !same) {
+    fprintf(stderr, "lagrange_floor: energy %.17g, %.17g, %.17g after the steps, %.17g before; the forms %s\n", e1[0], e1[1], e1[2], e0, same ? "agree, finite" : "differ, or a value is not finite");
     return 1;
   }
   printf("Lagrangian-phase floor (one gas, 2D, %d^2 cells, %d steps, best of 5 runs of each form), ns per cell-update:\n", n, steps);
-  for (form = 0; form < 2; form++) {
+  for (form = 0; form < 3; form++) {
     printf("  %s: total %.1f (", name[form], 1e9 * best[form] / ((double)steps * n * n));
     for (i = 0; i < 4; i++) printf("%s %.1f%s", phase[i], 1e9 * bt[form][i] / ((double)steps * n * n), i < 3 ? ", " : ")\n");
   }
   printf("  (the forms bitwise the same; energy conserved to %.1e; largest signal speed %.3f m/s)\n", fabs(e1[1] - e0) / e0, F[1].smax);
-  tot = 1e9 * best[1] / ((double)steps * n * n);
-  printf("BENCH lagrange_floor_ns_%d %.6e\n", n, tot);
-  printf("BENCH lagrange_floor_onepass_ns_%d %.6e\n", n, 1e9 * best[0] / ((double)steps * n * n));
-  for (i = 0; i < 4; i++) printf("BENCH lagrange_floor_%s_ns_%d %.6e\n", key[i], n, 1e9 * bt[1][i] / ((double)steps * n * n));
+  for (form = 0; form < 3; form++) {
+    printf("BENCH lagrange_floor%s_ns_%d %.6e\n", fkey[form], n, 1e9 * best[form] / ((double)steps * n * n));
+    for (i = 0; i < 4; i++) printf("BENCH lagrange_floor%s_%s_ns_%d %.6e\n", fkey[form], key[i], n, 1e9 * bt[form][i] / ((double)steps * n * n));
+  }
   return 0;
 }
