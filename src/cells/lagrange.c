@@ -44,9 +44,11 @@
   the Lagrangian phase take each row's cells of one ideal gas (no markers,
   no void, no deviator) in SIMD lanes first (ToGridGasLanes,
   PredictGasLanes, LagrangeGasLanes: the same arithmetic in the same order,
-  without a branch), then the row's loop takes their values and does the
-  rest (P2G's corners to the nodes in lanes too, GasLanesNodes, in the
-  loop's order; the predictor's corners' sums; every other cell whole).
+  without a branch; GasLanesWalk: a run of one gas's cells in lanes, its
+  inputs loaded from its blocks), then the row's loop takes their values and
+  does the rest (P2G's corners to the nodes in lanes too, GasLanesNodes, in
+  the loop's order; the predictor's corners' sums; the Lagrangian phase's
+  stores of a run of one gas in lanes; every other cell whole).
   -run_lanes 1 skips the lanes, for checks (bitwise the same).
 */
 #include "cells.h"
@@ -112,67 +114,81 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
     if (u[m * C->mst + PS_CM] > 0.0 && u[m * C->mst + PS_CV] >= PS_TRACE * *Vm) *cmax = PetscMax(*cmax, ec[PS_EC * m + 1]);
 }
 
-/* The lanes' gather (ToGridGasLanes, PredictGasLanes, LagrangeGasLanes):
-   the values of the material of each cell [0, nr) of a row (cell i0 + l,
-   ghosted index ci0 + i0 + l, EOS slot index n0 + l) into planes of w reals
-   at In (PS_GI_*), apart from the lanes, since their places depend on the
-   material: its M, V, E, EOS values, p_k^h (the predictor's, where it has
-   run), gamma, and 1 where the cell holds one material of C->gasf (set
-   with the cells, cells.c); a cell of
-   several materials or none takes zeros (its slots need not exist).
-   Returns how many cells hold one material of C->gasf; where none does, the
-   kernel's flag plane (flag, nr reals) is zeroed, and the kernel returns:
-   the lanes' arithmetic is not worth its time there */
-enum { PS_GI_M, PS_GI_V, PS_GI_E, PS_GI_EC0, PS_GI_EC1, PS_GI_EC2, PS_GI_PK, PS_GI_G, PS_GI_GAS, PS_GI_N };
-static inline PetscInt GasLanesGather(const PSCells *C, PetscInt ci0, PetscInt n0, PetscInt i0, PetscInt nr, PetscInt w, PetscReal *In, PetscReal *flag)
+/* The lanes' inputs (ToGridGasLanes, PredictGasLanes, LagrangeGasLanes):
+   of each cell [0, nr) of a row (cell i0 + l, ghosted index ci0 + i0 + l,
+   EOS slot index n0 + l), its material's M, V, E, EOS values, p_k^h (the
+   predictor's, where it has run), gamma, and 1 where the cell holds one
+   material of C->gasf (set with the cells, cells.c); a cell of several
+   materials or none takes zeros (its slots need not exist) */
+typedef struct {
+  PetscReal M, V, E, ec0, ec1, ec2, pk, g, gas;
+} PSGasIn;
+
+/* the kernels' own arguments */
+typedef struct {
+  PetscReal  dt, hm, fs; /* s, m (the largest cell size), P2G's force factor */
+  PetscInt   w;          /* the planes' length */
+  PetscReal *W;          /* the planes (the remap's scratch C->sW) */
+} PSGasArgs;
+
+enum { PS_GK_P2G, PS_GK_PREDICT, PS_GK_LAGRANGE };
+static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *, const PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, const PSGasArgs *, PSGasIn);
+static inline __attribute__((always_inline)) void PredictGasCell(const PSSolver *, const PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, const PSGasArgs *, PSGasIn);
+static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver *, const PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, const PSGasArgs *, PSGasIn);
+
+/* kernel kind's arithmetic for the cell of lane l (kind a constant where it is called) */
+static inline __attribute__((always_inline)) void GasLanesCell(const PSSolver *S, const PetscInt kind, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt l, const PSGasArgs *a, PSGasIn in)
 {
+  if (kind == PS_GK_P2G) ToGridGasCell(S, dim, ci0, oc0, n0, i0, l, a, in);
+  else if (kind == PS_GK_PREDICT) PredictGasCell(S, dim, ci0, oc0, n0, i0, l, a, in);
+  else LagrangeGasCell(S, dim, ci0, oc0, n0, i0, l, a, in);
+}
+
+/* The row's cells [0, nr) through kernel kind: a run of cells of one gas
+   block (V, M, E; its EOS slots consecutive, a pure cell's one each) in SIMD
+   lanes, its inputs loaded straight from the blocks (strided loads, no
+   planes between: until the twenty-sixth session a gather copied every
+   cell's inputs into planes first, about 5% of the quadrants' step); every
+   other cell alone.  Returns how many cells hold one material of C->gasf;
+   where none does, the kernel's flag plane (flag, nr reals) is zeroed and
+   no cell is taken: the lanes' arithmetic is not worth its time there */
+static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolver *S, const PetscInt kind, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, const PSGasArgs *a, PetscReal *flag)
+{
+  const PSCells   *C = S->cells;
   const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm, *gam = C->gam;
   const PetscInt  *gasf = C->gasf;
   const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C);
-  const short     *sole = C->sole;
+  const short     *sole = &C->sole[ci0 + i0];
   PetscInt         l, ng = 0;
+
+  for (l = 0; l < nr; l++) ng += sole[l] >= 0 && gasf[sole[l]];
+  if (!ng) {
+    for (l = 0; l < nr; l++) flag[l] = 0.0;
+    return 0;
+  }
   for (l = 0; l < nr; l++) {
-    const PetscInt   ci = ci0 + i0 + l, s = sole[ci], ss = s >= 0 ? s : 0, e = s >= 0 ? eco[n0 + l] + s : 0;
-    /* a run of cells of one gas block (V, M, E): strided copies in SIMD
-       lanes (their EOS slots are consecutive, a pure cell's one each) */
+    const PetscInt s = sole[l], ss = s >= 0 ? s : 0, e = s >= 0 ? eco[n0 + l] + s : 0;
     if (s >= 0 && ms == PS_CQ) {
-      const PetscInt b = l + PSCellsSoleRun(&sole[ci], nr - l);
+      const PetscInt b = l + PSCellsSoleRun(&sole[l], nr - l);
       if (b - l >= PS_LANES_RUN) {
-        const PetscInt   len = b - l;
-        const PetscReal *Ub = &U[PS_CQ * ci + mst * s], *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s], gf = gasf[s] ? 1.0 : 0.0;
-        PetscReal       *Ir = &In[l];
+        const PetscInt   len = b - l, l0 = l;
+        const PetscReal *Ub = &U[PS_CQ * (ci0 + i0 + l) + mst * s], *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s], gf = gasf[s] ? 1.0 : 0.0;
         PetscInt         x;
 #pragma GCC ivdep
         for (x = 0; x < len; x++) {
-          Ir[PS_GI_M * w + x]   = Ub[PS_CQ * x + PS_CM];
-          Ir[PS_GI_V * w + x]   = Ub[PS_CQ * x + PS_CV];
-          Ir[PS_GI_E * w + x]   = Ub[PS_CQ * x + PS_CE];
-          Ir[PS_GI_EC0 * w + x] = Eb[PS_EC * x];
-          Ir[PS_GI_EC1 * w + x] = Eb[PS_EC * x + 1];
-          Ir[PS_GI_EC2 * w + x] = Eb[PS_EC * x + 2];
-          Ir[PS_GI_PK * w + x]  = Hb[hmat * x];
-          Ir[PS_GI_G * w + x]   = g;
-          Ir[PS_GI_GAS * w + x] = gf;
+          const PSGasIn in = {Ub[PS_CQ * x + PS_CM], Ub[PS_CQ * x + PS_CV], Ub[PS_CQ * x + PS_CE], Eb[PS_EC * x], Eb[PS_EC * x + 1], Eb[PS_EC * x + 2], Hb[hmat * x], g, gf};
+          GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l0 + x, a, in);
         }
-        ng += gasf[s] ? len : 0;
         l = b - 1;
         continue;
       }
     }
-    const PetscReal *blk = &U[ms * ci + mst * ss];
-    In[PS_GI_M * w + l]   = blk[PS_CM];
-    In[PS_GI_V * w + l]   = blk[PS_CV];
-    In[PS_GI_E * w + l]   = blk[PS_CE];
-    In[PS_GI_EC0 * w + l] = s >= 0 ? EC[PS_EC * e] : 0.0;
-    In[PS_GI_EC1 * w + l] = s >= 0 ? EC[PS_EC * e + 1] : 0.0;
-    In[PS_GI_EC2 * w + l] = s >= 0 ? EC[PS_EC * e + 2] : 0.0;
-    In[PS_GI_PK * w + l]  = s >= 0 ? HM[hmat * e] : 0.0;
-    In[PS_GI_G * w + l]   = gam[ss];
-    In[PS_GI_GAS * w + l] = s >= 0 && gasf[ss] ? 1.0 : 0.0;
-    ng += s >= 0 && gasf[ss];
+    {
+      const PetscReal *blk = &U[ms * (ci0 + i0 + l) + mst * ss];
+      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], s >= 0 ? EC[PS_EC * e] : 0.0, s >= 0 ? EC[PS_EC * e + 1] : 0.0, s >= 0 ? EC[PS_EC * e + 2] : 0.0, s >= 0 ? HM[hmat * e] : 0.0, gam[ss], s >= 0 && gasf[ss] ? 1.0 : 0.0};
+      GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l, a, in);
+    }
   }
-  if (!ng)
-    for (l = 0; l < nr; l++) flag[l] = 0.0;
   return ng;
 }
 
@@ -221,26 +237,22 @@ static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
    the planes of w reals at W: the flag (1: these values are P2G's; 0: its own
    loop takes the cell), the mass each corner takes, M_c / 2^dim, and corner
    a's force component d (times fs) in plane PS_GL_F + a dim + d */
-enum { PS_GL_FLAG, PS_GL_MC, PS_GL_F }; /* (then the forces' 2^dim dim planes, then the gather's PS_GI_N) */
-static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, PetscInt w, PetscReal *W)
+enum { PS_GL_FLAG, PS_GL_MC, PS_GL_F }; /* (then the forces' 2^dim dim planes) */
+static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt l, const PSGasArgs *A, PSGasIn in)
 {
   const PSCells   *C  = S->cells;
-  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *VL = C->sVL;
-  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize) */
+  const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *VL = C->sVL, fs = A->fs;
+  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, w = A->w; /* (PSCellsHalfSize) */
   const PSCorners *K  = &C->K;
-  PetscReal       *HS = C->hs, *In = &W[(PS_GL_F + nco * dim) * w];
-  PetscInt         l;
-
-  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In, &W[PS_GL_FLAG * w])) return;
-#pragma GCC ivdep
-  for (l = 0; l < nr; l++) {
+  PetscReal       *HS = C->hs, *W = A->W;
+  {
     const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal M = In[PS_GI_M * w + l], V = In[PS_GI_V * w + l];
+    const PetscReal M = in.M, V = in.V;
     PetscReal       Mc, Vm, cmax, hg[4][3], *gh = &HS[hsd * (n0 + l) + 1];
     PetscInt        a, d, e;
     /* sig = -(p_f + q) V_m I */
-    GasLanesMix(M, V, In[PS_GI_EC1 * w + l], &Mc, &Vm, &cmax);
-    const PetscReal pf = GasLanesForcePressure(In[PS_GI_EC2 * w + l], In[PS_GI_EC0 * w + l]), sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
+    GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
+    const PetscReal pf = GasLanesForcePressure(in.ec2, in.ec0), sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
     HourglassRatesDim(K, dim, oc, VL, hg);
     for (e = 0; e < nh; e++)
       for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
@@ -252,8 +264,14 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
         for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
         W[(PS_GL_F + a * dim + d) * w + l] = fs * fd;
       }
-    W[PS_GL_FLAG * w + l] = In[PS_GI_GAS * w + l] != 0.0 && M > 0.0 ? 1.0 : 0.0;
+    W[PS_GL_FLAG * w + l] = in.gas != 0.0 && M > 0.0 ? 1.0 : 0.0;
   }
+}
+
+static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, PetscInt w, PetscReal *W)
+{
+  const PSGasArgs a = {0.0, 0.0, fs, w, W};
+  (void)GasLanesWalk(S, PS_GK_P2G, dim, ci0, oc0, n0, i0, nr, &a, &W[PS_GL_FLAG * w]);
 }
 
 /* the corner masses and forces of a row's lane cells [l0, l1) (ToGridGasLanes',
@@ -556,25 +574,22 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
    values are the predictor's, 0: the predictor's own loop takes the cell),
    q^h, the force's change of pressure -V_m (p_f^h + q^h - p_f^n - q^n), p_k^h,
    the mass M_c and the sound speed c_max (the hourglass viscosity) */
-enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_F }; /* (then the force changes' 2^dim dim planes, the hourglass rates' nh dim, the gather's PS_GI_N) */
-static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscBool forces, PetscInt w, PetscReal *W)
+enum { PS_PL_FLAG, PS_PL_QH, PS_PL_DSIG, PS_PL_PK, PS_PL_MC, PS_PL_CMAX, PS_PL_F }; /* (then the force changes' 2^dim dim planes, the hourglass rates' nh dim) */
+static inline __attribute__((always_inline)) void PredictGasCell(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt l, const PSGasArgs *A, PSGasIn in)
 {
   const PSCells   *C  = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
-  const PetscReal *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
-  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, pg = PS_PL_F + nco * dim; /* (PSCellsHalfSize; the hourglass rates' first plane) */
+  const PetscReal *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic, dt = A->dt, hm = A->hm;
+  const PetscInt   nco = 1 << dim, w = A->w;
   const PSCorners *K  = &C->K;
-  const PetscReal *HS = C->hs;
-  PetscReal       *In = &W[(pg + nh * dim) * w];
-  PetscInt         l, a;
-
-  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In, &W[PS_PL_FLAG * w])) return;
-#pragma GCC ivdep
-  for (l = 0; l < nr; l++) {
+  PetscReal       *W  = A->W;
+  PetscInt         a;
+  (void)n0;
+  {
     const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal M = In[PS_GI_M * w + l], V = In[PS_GI_V * w + l], E = In[PS_GI_E * w + l], ec0 = In[PS_GI_EC0 * w + l], ec2 = In[PS_GI_EC2 * w + l], Q = XQ[ci];
+    const PetscReal M = in.M, V = in.V, E = in.E, ec0 = in.ec0, ec2 = in.ec2, Q = XQ[ci];
     PetscReal       Mc, Vm, cmax, dVk, V0e, L0 = 0.0, L1 = 0.0, L2 = 0.0, trD;
-    GasLanesMix(M, V, In[PS_GI_EC1 * w + l], &Mc, &Vm, &cmax);
+    GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
     /* the diagonal of CellGradientDim's L, in its order */
 #pragma GCC unroll 8
     for (a = 0; a < nco; a++) {
@@ -587,12 +602,12 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
     /* half the volume change, shared; the ideal gas's p_k^h (the predictor's two divisions) */
     const PetscReal dVh = 0.5 * Vc * dt * trD;
     GasLanesShare(Vc, V, XAM[ci] * Vc, ec2, XCM[ci], dVh, &dVk, &V0e);
-    const PetscReal V1 = PetscMax(V + dVk, 0.5 * V), V1d = V1 > 0.0 ? V1 : 1.0, dV = V1 - V, iV1 = 1.0 / V1d, g1 = In[PS_GI_G * w + l] - 1.0;
+    const PetscReal V1 = PetscMax(V + dVk, 0.5 * V), V1d = V1 > 0.0 ? V1 : 1.0, dV = V1 - V, iV1 = 1.0 / V1d, g1 = in.g - 1.0;
     const PetscReal den = 1.0 + 0.5 * g1 * dV * iV1, dd = den != 0.0 ? den : 1.0, pk0 = g1 * iV1 * (E - dV * (0.5 * ec0 + Q)) / dd, pk = PetscMax(pk0, 0.0);
     const PetscReal Vh = 0.0 + V1, Vhd = Vh != 0.0 ? Vh : 1.0;
     /* q^h at Mc / Vh; p_f^h and p_f^n */
     const PetscReal qh = GasLanesViscosity(Mc / Vhd, hm, trD, cmax, cl, cq), dp = GasLanesForcePressure(ec2, pk) + qh - GasLanesForcePressure(ec2, ec0) - Q;
-    const PetscBool ok = In[PS_GI_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
+    const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
     W[PS_PL_FLAG * w + l] = ok ? 1.0 : 0.0;
     W[PS_PL_QH * w + l]   = qh;
     W[PS_PL_DSIG * w + l] = 0.0 - Vm * dp;
@@ -600,6 +615,19 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
     W[PS_PL_MC * w + l]   = Mc;
     W[PS_PL_CMAX * w + l] = cmax;
   }
+}
+
+static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscBool forces, PetscInt w, PetscReal *W)
+{
+  const PSCells   *C  = S->cells;
+  const PetscReal *vh = C->vh;
+  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, pg = PS_PL_F + nco * dim; /* (PSCellsHalfSize; the hourglass rates' first plane) */
+  const PSCorners *K  = &C->K;
+  const PetscReal *HS = C->hs;
+  const PSGasArgs  A  = {dt, hm, 0.0, w, W};
+  PetscInt         l, a;
+
+  if (!GasLanesWalk(S, PS_GK_PREDICT, dim, ci0, oc0, n0, i0, nr, &A, &W[PS_PL_FLAG * w])) return;
   /* without strength the force change at the corners (the loop's, for a
      run of lane cells inside the row's owned corners): the hourglass rates
      at v^{n+1/2*} (for the cell's slot, which holds those at t^n until the
@@ -932,22 +960,18 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
    negative, which that loop reports or books), the cell's volume V_c + dV,
    the material's new volume and energy, q, the time step's viscous term and
    density, c_max and the largest corner speed */
-enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX, PS_LL_IN }; /* (then the gather's PS_GI_N) */
-static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
+enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX };
+static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt l, const PSGasArgs *A, PSGasIn in)
 {
   const PSCells   *C   = S->cells;
   const PetscReal *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
-  const PetscReal *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic;
-  const PetscInt   nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim; /* (PSCellsHalfSize) */
+  const PetscReal *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic, dt = A->dt, hm = A->hm;
+  const PetscInt   nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, w = A->w; /* (PSCellsHalfSize) */
   const PSCorners *K  = &C->K;
-  PetscReal       *In = &W[PS_LL_IN * w];
-  PetscInt         l;
-
-  if (!GasLanesGather(C, ci0, n0, i0, nr, w, In, &W[PS_LL_FLAG * w])) return;
-#pragma GCC ivdep
-  for (l = 0; l < nr; l++) {
+  PetscReal       *W  = A->W;
+  {
     const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal  M = In[PS_GI_M * w + l], V = In[PS_GI_V * w + l], E = In[PS_GI_E * w + l], pk = In[PS_GI_PK * w + l];
+    const PetscReal  M = in.M, V = in.V, E = in.E, pk = in.pk;
     const PetscReal *hs = &HS[hsd * (n0 + l)], qh = hs[0], *gh = hs + 1;
     PetscReal        L[3][3], vmax, hg[4][3], hgw = 0.0, Mc, Vm, cmax, dVk, V0e;
     PetscInt         e, d;
@@ -955,8 +979,8 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
        (the one-material case: dVr = 0, p* = 0) */
     CellGradientDim(K, dim, oc, vh, L, &vmax);
     const PetscReal trD = L[0][0] + L[1][1] + L[2][2], dV = Vc * dt * trD, dVr = 0.0, pr = 0.0;
-    GasLanesMix(M, V, In[PS_GI_EC1 * w + l], &Mc, &Vm, &cmax);
-    GasLanesShare(Vc, V, XAM[ci] * Vc, In[PS_GI_EC2 * w + l], XCM[ci], dV, &dVk, &V0e);
+    GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
+    GasLanesShare(Vc, V, XAM[ci] * Vc, in.ec2, XCM[ci], dV, &dVk, &V0e);
     /* q */
     const PetscReal Vmd = Vm > 0.0 ? Vm : 1.0, rho = Mc / Vmd, q = GasLanesViscosity(rho, hm, trD, cmax, cl, cq);
     /* hourglass heating, kappa sum_m g_m^h . g_m dt (HourglassKappa) */
@@ -969,7 +993,7 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
     const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
     /* the time step's viscous term (Fastest's) */
     const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
-    const PetscBool ok = In[PS_GI_GAS * w + l] != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
+    const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
     W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
     W[PS_LL_XV * w + l]   = Vc + dV;
     W[PS_LL_V1 * w + l]   = V1;
@@ -980,6 +1004,12 @@ static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, Petsc
     W[PS_LL_CMAX * w + l] = cmax;
     W[PS_LL_VMAX * w + l] = vmax;
   }
+}
+
+static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
+{
+  const PSGasArgs A = {dt, hm, 0.0, w, W};
+  (void)GasLanesWalk(S, PS_GK_LAGRANGE, dim, ci0, oc0, n0, i0, nr, &A, &W[PS_LL_FLAG * w]);
 }
 
 /* the Lagrangian phase's nodes of the local units (rows along y in 2D,
@@ -1052,6 +1082,32 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = oc0 + i;
         PetscInt         m0, m1;
+        if (lanes && W[PS_LL_FLAG * nw + l] != 0.0 && C->ms == PS_CQ) {
+          /* a run of the lanes' cells of one gas: their values to the cells in
+             SIMD lanes (the time step's c + |v| + q/(rho c) into the plane of
+             XV, read), then the time step's speeds in the cells' order, as
+             below (Fastest, where one is not below the largest so far) */
+          const PetscInt s = C->sole[ci], len0 = PSCellsSoleRun(&C->sole[ci], C->ce[0] - i);
+          PetscInt       len = 1, x;
+          while (len < len0 && W[PS_LL_FLAG * nw + l + len] != 0.0) len++;
+          if (len >= PS_LANES_RUN) {
+            PetscReal       *B = &C->u[PS_CQ * ci + s * C->mst], *xv = &XV[ci], *xq = &XQ[ci], *Wv = &W[PS_LL_XV * nw + l];
+            const PetscReal *Wq = &W[PS_LL_Q * nw + l], *W1 = &W[PS_LL_V1 * nw + l], *We = &W[PS_LL_E1 * nw + l];
+            const PetscReal *Wc = &W[PS_LL_CMAX * nw + l], *Wm = &W[PS_LL_VMAX * nw + l], *Ws = &W[PS_LL_SQ * nw + l], *Wr = &W[PS_LL_RHO * nw + l];
+#pragma GCC ivdep
+            for (x = 0; x < len; x++) {
+              xv[x]                = Wv[x];
+              xq[x]                = Wq[x];
+              B[PS_CQ * x + PS_CV] = W1[x];
+              B[PS_CQ * x + PS_CE] = We[x];
+              Wv[x]                = Wc[x] + Wm[x] + Ws[x];
+            }
+            for (x = 0; x < len; x++)
+              if (!(Wv[x] <= smax)) Fastest(S, i + x, j, k, Wc[x], Wm[x], Ws[x], Wr[x], &smax);
+            i += len - 1;
+            continue;
+          }
+        }
         if (lanes && W[PS_LL_FLAG * nw + l] != 0.0) {
           /* a cell of the lanes: what the loop below leaves, their values */
           PetscReal *blk = &u[C->sole[ci] * C->mst];
