@@ -79,9 +79,12 @@ static inline void HourglassRatesDim(const PSCorners *K, const PetscInt dim, Pet
 
   for (e = 0; e < 4; e++)
     for (d = 0; d < 3; d++) hg[e][d] = 0.0;
+#pragma GCC unroll 8 /* (whole, so a kernel's cell loop around it runs in SIMD lanes in 3D too) */
   for (a = 0; a < nco; a++) {
     const PetscInt oa = o + K->off[a];
+#pragma GCC unroll 3
     for (d = 0; d < dim; d++) {
+#pragma GCC unroll 4
       for (e = 0; e < nh; e++) hg[e][d] += PSHourglassSign(a, e) * v[dim * oa + d];
     }
   }
@@ -149,9 +152,11 @@ static inline __attribute__((always_inline)) void GasLanesCell(const PSSolver *S
    lanes, its inputs loaded straight from the blocks (strided loads, no
    planes between: until the twenty-sixth session a gather copied every
    cell's inputs into planes first, about 5% of the quadrants' step); every
-   other cell alone.  Returns how many cells hold one material of C->gasf;
-   where none does, the kernel's flag plane (flag, nr reals) is zeroed and
-   no cell is taken: the lanes' arithmetic is not worth its time there */
+   other cell alone.  Returns whether a cell holds one material of C->gasf
+   (the first one ends the search; a count over the row cost about 1% of
+   the quadrants' step); where none does, the kernel's flag plane (flag, nr
+   reals) is zeroed and no cell is taken: the lanes' arithmetic is not
+   worth its time there */
 static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolver *S, const PetscInt kind, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, const PSGasArgs *a, PetscReal *flag)
 {
   const PSCells   *C = S->cells;
@@ -159,9 +164,11 @@ static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolve
   const PetscInt  *gasf = C->gasf;
   const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C);
   const short     *sole = &C->sole[ci0 + i0];
-  PetscInt         l, ng = 0;
+  PetscInt         l, ng;
 
-  for (l = 0; l < nr; l++) ng += sole[l] >= 0 && gasf[sole[l]];
+  for (l = 0; l < nr; l++)
+    if (sole[l] >= 0 && gasf[sole[l]]) break;
+  ng = l < nr;
   if (!ng) {
     for (l = 0; l < nr; l++) flag[l] = 0.0;
     return 0;
@@ -254,13 +261,18 @@ static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *
     GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
     const PetscReal pf = GasLanesForcePressure(in.ec2, in.ec0), sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
     HourglassRatesDim(K, dim, oc, VL, hg);
+#pragma GCC unroll 4
     for (e = 0; e < nh; e++)
+#pragma GCC unroll 3
       for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
     W[PS_GL_MC * w + l] = Mc / nco;
+#pragma GCC unroll 8
     for (a = 0; a < nco; a++)
+#pragma GCC unroll 3
       for (d = 0; d < dim; d++) {
         PetscReal fd = 0.0;
         fd -= sg * K->gN[a][d];
+#pragma GCC unroll 4
         for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
         W[(PS_GL_F + a * dim + d) * w + l] = fs * fd;
       }
@@ -471,11 +483,14 @@ static inline void CellGradientDim(const PSCorners *K, const PetscInt dim, Petsc
   PetscReal v2max = 0.0;
   for (d = 0; d < 3; d++)
     for (e = 0; e < 3; e++) L[d][e] = 0.0;
+#pragma GCC unroll 8 /* (whole: as HourglassRatesDim) */
   for (a = 0; a < (1 << dim); a++) {
     const PetscReal *v  = &v0[dim * (o + K->off[a])];
     PetscReal        v2 = 0.0;
+#pragma GCC unroll 3
     for (d = 0; d < dim; d++) {
       v2 += v[d] * v[d];
+#pragma GCC unroll 3
       for (e = 0; e < dim; e++) L[d][e] += v[d] * K->gN[a][e];
     }
     v2max = PetscMax(v2max, v2);
@@ -986,7 +1001,9 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
     /* hourglass heating, kappa sum_m g_m^h . g_m dt (HourglassKappa) */
     const PetscReal kap = K->khg * Mc * cmax;
     HourglassRatesDim(K, dim, oc, vh, hg);
+#pragma GCC unroll 4
     for (e = 0; e < nh; e++)
+#pragma GCC unroll 3
       for (d = 0; d < dim; d++) hgw += kap * gh[dim * e + d] * hg[e][d] * dt;
     /* the material's volume and energy (no deviator: wh = 0) */
     const PetscReal Mcd = Mc > 0.0 ? Mc : 1.0, V1 = V + dVk, wh = 0.0;
