@@ -236,11 +236,12 @@ static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
   return sc > 0.0 ? pf : 0.0;
 }
 
-/* The cells' P2G of the cells [0, nr) of a row (cell i0 + l in lane l, as
-   PredictGasLanes) that hold one material with mass, an ideal gas (C->gasf),
-   in a scene without strength: PSCellsToGridDim's arithmetic for such a
-   cell, in its order, without a branch, so the row's loop takes it in SIMD
-   lanes; the hourglass rates into the cell's slot of C->hs as there.  Into
+/* The cells' P2G (ToGridGasCell: the cell of lane l, its inputs in;
+   ToGridGasLanes: the row through GasLanesWalk) of the cells [0, nr) of a
+   row (cell i0 + l in lane l, as PredictGasLanes) that hold one material
+   with mass, an ideal gas (C->gasf), in a scene without strength:
+   PSCellsToGridDim's arithmetic for such a cell, in its order, without a
+   branch, so the row's loop takes it in SIMD lanes; the hourglass rates into the cell's slot of C->hs as there.  Into
    the planes of w reals at W: the flag (1: these values are P2G's; 0: its own
    loop takes the cell), the mass each corner takes, M_c / 2^dim, and corner
    a's force component d (times fs) in plane PS_GL_F + a dim + d */
@@ -578,9 +579,11 @@ static inline void Fastest(const PSSolver *S, PetscInt i, PetscInt j, PetscInt k
   C->sat[6] = rho;
 }
 
-/* The predictor's half-step values of the cells [0, nr) of a row (cell i0 + l
-   in lane l; ghosted index ci0 + i0 + l, lower corner node oc0 + i0 + l, EOS
-   slot index n0 + l) that hold one material with mass, an ideal gas
+/* The predictor's half-step values (PredictGasCell: the cell of lane l, its
+   inputs in; PredictGasLanes: the row through GasLanesWalk, then the force
+   changes) of the cells [0, nr) of a row (cell i0 + l in lane l; ghosted
+   index ci0 + i0 + l, lower corner node oc0 + i0 + l, EOS slot index
+   n0 + l) that hold one material with mass, an ideal gas
    (C->gasf, C->gam its gamma) without markers or void (PSCellsShareVolume's
    one-material case): the predictor's arithmetic for such a cell, in its
    order, without a branch (every test a choice between values computed
@@ -965,11 +968,12 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* The Lagrangian phase's values of the cells [0, nr) of a row (cell i0 + l
-   in lane l, as PredictGasLanes) that hold one material with mass, an ideal
-   gas without a deviator (C->gasf) and without markers or void: the phase's
-   arithmetic for such a cell, in its order, without a branch, so the row's
-   loop takes it in SIMD lanes.  Into the planes of w reals at W: the flag (1:
+/* The Lagrangian phase's values (LagrangeGasCell: the cell of lane l, its
+   inputs in; LagrangeGasLanes: the row through GasLanesWalk) of the cells
+   [0, nr) of a row (cell i0 + l in lane l, as PredictGasLanes) that hold
+   one material with mass, an ideal gas without a deviator (C->gasf) and
+   without markers or void: the phase's arithmetic for such a cell, in its
+   order, without a branch, so the row's loop takes it in SIMD lanes.  Into the planes of w reals at W: the flag (1:
    these values are the phase's; 0: its own loop takes the cell, among them
    one whose volume would not stay positive or whose energy would go
    negative, which that loop reports or books), the cell's volume V_c + dV,
