@@ -486,9 +486,11 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim):
 @pytest.mark.parametrize("dim,disk", [(2, True), (2, False), (3, False)])
 def test_cell_lanes_are_bitwise_the_scalar_loops(dim, disk):
     """The cells' phases take a row of pure ideal-gas cells in SIMD lanes (the
-    P2G's ToGridGasLanes and ToGridGasNodes without strength, the
+    P2G's ToGridGasLanes and GasLanesNodes without strength, the
     predictor's and the Lagrangian phase's PredictGasLanes and
-    LagrangeGasLanes, the remap's DualFluxLanes and DualFluxNodes) with the
+    LagrangeGasLanes, each run of one gas through GasLanesWalk with its
+    inputs loaded from its blocks, the Lagrangian phase's stores of a run,
+    the remap's DualFluxLanes and DualFluxNodes) with the
     scalar loops' arithmetic in their order; -run_lanes 1 sends every cell
     through the scalar loops; so do the remap's FaceRunLanes, FractionsRun,
     CellUpdateLanes and heat runs, and the EOS cache's EOSGasRun.  The scene
