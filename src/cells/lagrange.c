@@ -241,10 +241,11 @@ static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
    row (cell i0 + l in lane l, as PredictGasLanes) that hold one material
    with mass, an ideal gas (C->gasf), in a scene without strength:
    PSCellsToGridDim's arithmetic for such a cell, in its order, without a
-   branch, so the row's loop takes it in SIMD lanes; the hourglass rates into the cell's slot of C->hs as there.  Into
-   the planes of w reals at W: the flag (1: these values are P2G's; 0: its own
-   loop takes the cell), the mass each corner takes, M_c / 2^dim, and corner
-   a's force component d (times fs) in plane PS_GL_F + a dim + d */
+   branch, so the row's loop takes it in SIMD lanes; the hourglass rates
+   into the cell's slot of C->hs as there.  Into the planes of w reals at W:
+   the flag (1: these values are P2G's; 0: its own loop takes the cell), the
+   mass each corner takes, M_c / 2^dim, and corner a's force component d
+   (times fs) in plane PS_GL_F + a dim + d */
 enum { PS_GL_FLAG, PS_GL_MC, PS_GL_F }; /* (then the forces' 2^dim dim planes) */
 static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt l, const PSGasArgs *A, PSGasIn in)
 {
@@ -253,32 +254,30 @@ static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *
   const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, w = A->w; /* (PSCellsHalfSize) */
   const PSCorners *K  = &C->K;
   PetscReal       *HS = C->hs, *W = A->W;
-  {
-    const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal M = in.M, V = in.V;
-    PetscReal       Mc, Vm, cmax, hg[4][3], *gh = &HS[hsd * (n0 + l) + 1];
-    PetscInt        a, d, e;
-    /* sig = -(p_f + q) V_m I */
-    GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
-    const PetscReal pf = GasLanesForcePressure(in.ec2, in.ec0), sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
-    HourglassRatesDim(K, dim, oc, VL, hg);
+  const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
+  const PetscReal M = in.M, V = in.V;
+  PetscReal       Mc, Vm, cmax, hg[4][3], *gh = &HS[hsd * (n0 + l) + 1];
+  PetscInt        a, d, e;
+  /* sig = -(p_f + q) V_m I */
+  GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
+  const PetscReal pf = GasLanesForcePressure(in.ec2, in.ec0), sg = 0.0 - Vm * pf - Vm * XQ[ci], kap = K->khg * Mc * cmax;
+  HourglassRatesDim(K, dim, oc, VL, hg);
 #pragma GCC unroll 4
-    for (e = 0; e < nh; e++)
+  for (e = 0; e < nh; e++)
 #pragma GCC unroll 3
-      for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
-    W[PS_GL_MC * w + l] = Mc / nco;
+    for (d = 0; d < dim; d++) gh[dim * e + d] = hg[e][d];
+  W[PS_GL_MC * w + l] = Mc / nco;
 #pragma GCC unroll 8
-    for (a = 0; a < nco; a++)
+  for (a = 0; a < nco; a++)
 #pragma GCC unroll 3
-      for (d = 0; d < dim; d++) {
-        PetscReal fd = 0.0;
-        fd -= sg * K->gN[a][d];
+    for (d = 0; d < dim; d++) {
+      PetscReal fd = 0.0;
+      fd -= sg * K->gN[a][d];
 #pragma GCC unroll 4
-        for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
-        W[(PS_GL_F + a * dim + d) * w + l] = fs * fd;
-      }
-    W[PS_GL_FLAG * w + l] = in.gas != 0.0 && M > 0.0 ? 1.0 : 0.0;
-  }
+      for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
+      W[(PS_GL_F + a * dim + d) * w + l] = fs * fd;
+    }
+  W[PS_GL_FLAG * w + l] = in.gas != 0.0 && M > 0.0 ? 1.0 : 0.0;
 }
 
 static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, PetscInt w, PetscReal *W)
@@ -602,37 +601,34 @@ static inline __attribute__((always_inline)) void PredictGasCell(const PSSolver 
   const PSCorners *K  = &C->K;
   PetscReal       *W  = A->W;
   PetscInt         a;
-  (void)n0;
-  {
-    const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal M = in.M, V = in.V, E = in.E, ec0 = in.ec0, ec2 = in.ec2, Q = XQ[ci];
-    PetscReal       Mc, Vm, cmax, dVk, V0e, L0 = 0.0, L1 = 0.0, L2 = 0.0, trD;
-    GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
-    /* the diagonal of CellGradientDim's L, in its order */
+  const PetscInt  ci = ci0 + i0 + l, oc = oc0 + i0 + l;
+  const PetscReal M = in.M, V = in.V, E = in.E, ec0 = in.ec0, ec2 = in.ec2, Q = XQ[ci];
+  PetscReal       Mc, Vm, cmax, dVk, V0e, L0 = 0.0, L1 = 0.0, L2 = 0.0, trD;
+  GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
+  /* the diagonal of CellGradientDim's L, in its order */
 #pragma GCC unroll 8
-    for (a = 0; a < nco; a++) {
-      const PetscReal *v = &vh[dim * (oc + K->off[a])];
-      L0 += v[0] * K->gN[a][0];
-      L1 += v[1] * K->gN[a][1];
-      if (dim == 3) L2 += v[2] * K->gN[a][2];
-    }
-    trD = L0 + L1 + L2;
-    /* half the volume change, shared; the ideal gas's p_k^h (the predictor's two divisions) */
-    const PetscReal dVh = 0.5 * Vc * dt * trD;
-    GasLanesShare(Vc, V, XAM[ci] * Vc, ec2, XCM[ci], dVh, &dVk, &V0e);
-    const PetscReal V1 = PetscMax(V + dVk, 0.5 * V), V1d = V1 > 0.0 ? V1 : 1.0, dV = V1 - V, iV1 = 1.0 / V1d, g1 = in.g - 1.0;
-    const PetscReal den = 1.0 + 0.5 * g1 * dV * iV1, dd = den != 0.0 ? den : 1.0, pk0 = g1 * iV1 * (E - dV * (0.5 * ec0 + Q)) / dd, pk = PetscMax(pk0, 0.0);
-    const PetscReal Vh = 0.0 + V1, Vhd = Vh != 0.0 ? Vh : 1.0;
-    /* q^h at Mc / Vh; p_f^h and p_f^n */
-    const PetscReal qh = GasLanesViscosity(Mc / Vhd, hm, trD, cmax, cl, cq), dp = GasLanesForcePressure(ec2, pk) + qh - GasLanesForcePressure(ec2, ec0) - Q;
-    const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
-    W[PS_PL_FLAG * w + l] = ok ? 1.0 : 0.0;
-    W[PS_PL_QH * w + l]   = qh;
-    W[PS_PL_DSIG * w + l] = 0.0 - Vm * dp;
-    W[PS_PL_PK * w + l]   = pk;
-    W[PS_PL_MC * w + l]   = Mc;
-    W[PS_PL_CMAX * w + l] = cmax;
+  for (a = 0; a < nco; a++) {
+    const PetscReal *v = &vh[dim * (oc + K->off[a])];
+    L0 += v[0] * K->gN[a][0];
+    L1 += v[1] * K->gN[a][1];
+    if (dim == 3) L2 += v[2] * K->gN[a][2];
   }
+  trD = L0 + L1 + L2;
+  /* half the volume change, shared; the ideal gas's p_k^h (the predictor's two divisions) */
+  const PetscReal dVh = 0.5 * Vc * dt * trD;
+  GasLanesShare(Vc, V, XAM[ci] * Vc, ec2, XCM[ci], dVh, &dVk, &V0e);
+  const PetscReal V1 = PetscMax(V + dVk, 0.5 * V), V1d = V1 > 0.0 ? V1 : 1.0, dV = V1 - V, iV1 = 1.0 / V1d, g1 = in.g - 1.0;
+  const PetscReal den = 1.0 + 0.5 * g1 * dV * iV1, dd = den != 0.0 ? den : 1.0, pk0 = g1 * iV1 * (E - dV * (0.5 * ec0 + Q)) / dd, pk = PetscMax(pk0, 0.0);
+  const PetscReal Vh = 0.0 + V1, Vhd = Vh != 0.0 ? Vh : 1.0;
+  /* q^h at Mc / Vh; p_f^h and p_f^n */
+  const PetscReal qh = GasLanesViscosity(Mc / Vhd, hm, trD, cmax, cl, cq), dp = GasLanesForcePressure(ec2, pk) + qh - GasLanesForcePressure(ec2, ec0) - Q;
+  const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
+  W[PS_PL_FLAG * w + l] = ok ? 1.0 : 0.0;
+  W[PS_PL_QH * w + l]   = qh;
+  W[PS_PL_DSIG * w + l] = 0.0 - Vm * dp;
+  W[PS_PL_PK * w + l]   = pk;
+  W[PS_PL_MC * w + l]   = Mc;
+  W[PS_PL_CMAX * w + l] = cmax;
 }
 
 static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscBool forces, PetscInt w, PetscReal *W)
@@ -973,10 +969,11 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
    [0, nr) of a row (cell i0 + l in lane l, as PredictGasLanes) that hold
    one material with mass, an ideal gas without a deviator (C->gasf) and
    without markers or void: the phase's arithmetic for such a cell, in its
-   order, without a branch, so the row's loop takes it in SIMD lanes.  Into the planes of w reals at W: the flag (1:
-   these values are the phase's; 0: its own loop takes the cell, among them
-   one whose volume would not stay positive or whose energy would go
-   negative, which that loop reports or books), the cell's volume V_c + dV,
+   order, without a branch, so the row's loop takes it in SIMD lanes.  Into
+   the planes of w reals at W: the flag (1: these values are the phase's;
+   0: its own loop takes the cell, among them one whose volume would not
+   stay positive or whose energy would go negative, which that loop reports
+   or books), the cell's volume V_c + dV,
    the material's new volume and energy, q, the time step's viscous term and
    density, c_max and the largest corner speed */
 enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX };
@@ -988,43 +985,41 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
   const PetscInt   nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, w = A->w; /* (PSCellsHalfSize) */
   const PSCorners *K  = &C->K;
   PetscReal       *W  = A->W;
-  {
-    const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;
-    const PetscReal  M = in.M, V = in.V, E = in.E, pk = in.pk;
-    const PetscReal *hs = &HS[hsd * (n0 + l)], qh = hs[0], *gh = hs + 1;
-    PetscReal        L[3][3], vmax, hg[4][3], hgw = 0.0, Mc, Vm, cmax, dVk, V0e;
-    PetscInt         e, d;
-    /* CellGradientDim's L and corner speed; the cell's volume change, shared
-       (the one-material case: dVr = 0, p* = 0) */
-    CellGradientDim(K, dim, oc, vh, L, &vmax);
-    const PetscReal trD = L[0][0] + L[1][1] + L[2][2], dV = Vc * dt * trD, dVr = 0.0, pr = 0.0;
-    GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
-    GasLanesShare(Vc, V, XAM[ci] * Vc, in.ec2, XCM[ci], dV, &dVk, &V0e);
-    /* q */
-    const PetscReal Vmd = Vm > 0.0 ? Vm : 1.0, rho = Mc / Vmd, q = GasLanesViscosity(rho, hm, trD, cmax, cl, cq);
-    /* hourglass heating, kappa sum_m g_m^h . g_m dt (HourglassKappa) */
-    const PetscReal kap = K->khg * Mc * cmax;
-    HourglassRatesDim(K, dim, oc, vh, hg);
+  const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;
+  const PetscReal  M = in.M, V = in.V, E = in.E, pk = in.pk;
+  const PetscReal *hs = &HS[hsd * (n0 + l)], qh = hs[0], *gh = hs + 1;
+  PetscReal        L[3][3], vmax, hg[4][3], hgw = 0.0, Mc, Vm, cmax, dVk, V0e;
+  PetscInt         e, d;
+  /* CellGradientDim's L and corner speed; the cell's volume change, shared
+     (the one-material case: dVr = 0, p* = 0) */
+  CellGradientDim(K, dim, oc, vh, L, &vmax);
+  const PetscReal trD = L[0][0] + L[1][1] + L[2][2], dV = Vc * dt * trD, dVr = 0.0, pr = 0.0;
+  GasLanesMix(M, V, in.ec1, &Mc, &Vm, &cmax);
+  GasLanesShare(Vc, V, XAM[ci] * Vc, in.ec2, XCM[ci], dV, &dVk, &V0e);
+  /* q */
+  const PetscReal Vmd = Vm > 0.0 ? Vm : 1.0, rho = Mc / Vmd, q = GasLanesViscosity(rho, hm, trD, cmax, cl, cq);
+  /* hourglass heating, kappa sum_m g_m^h . g_m dt (HourglassKappa) */
+  const PetscReal kap = K->khg * Mc * cmax;
+  HourglassRatesDim(K, dim, oc, vh, hg);
 #pragma GCC unroll 4
-    for (e = 0; e < nh; e++)
+  for (e = 0; e < nh; e++)
 #pragma GCC unroll 3
-      for (d = 0; d < dim; d++) hgw += kap * gh[dim * e + d] * hg[e][d] * dt;
-    /* the material's volume and energy (no deviator: wh = 0) */
-    const PetscReal Mcd = Mc > 0.0 ? Mc : 1.0, V1 = V + dVk, wh = 0.0;
-    const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
-    /* the time step's viscous term (Fastest's) */
-    const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
-    const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
-    W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
-    W[PS_LL_XV * w + l]   = Vc + dV;
-    W[PS_LL_V1 * w + l]   = V1;
-    W[PS_LL_E1 * w + l]   = E1;
-    W[PS_LL_Q * w + l]    = q;
-    W[PS_LL_SQ * w + l]   = sq;
-    W[PS_LL_RHO * w + l]  = rho;
-    W[PS_LL_CMAX * w + l] = cmax;
-    W[PS_LL_VMAX * w + l] = vmax;
-  }
+    for (d = 0; d < dim; d++) hgw += kap * gh[dim * e + d] * hg[e][d] * dt;
+  /* the material's volume and energy (no deviator: wh = 0) */
+  const PetscReal Mcd = Mc > 0.0 ? Mc : 1.0, V1 = V + dVk, wh = 0.0;
+  const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
+  /* the time step's viscous term (Fastest's) */
+  const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
+  const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
+  W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
+  W[PS_LL_XV * w + l]   = Vc + dV;
+  W[PS_LL_V1 * w + l]   = V1;
+  W[PS_LL_E1 * w + l]   = E1;
+  W[PS_LL_Q * w + l]    = q;
+  W[PS_LL_SQ * w + l]   = sq;
+  W[PS_LL_RHO * w + l]  = rho;
+  W[PS_LL_CMAX * w + l] = cmax;
+  W[PS_LL_VMAX * w + l] = vmax;
 }
 
 static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
