@@ -445,26 +445,32 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   }
 }
 
-/* FaceRun's arithmetic for a face whose donor and both its neighbours
-   along d are filled by one material, for the faces k in [ka, kb) of a run
-   (o0: face 0's lower node, u0 the cell above it, jd0 its index along d, jx
-   1 along x, else 0), into W (plane PS_FL_* of length w).  The same values,
-   without a branch: the face's two possible donors (the cells below and
-   above it) and their neighbours are all loaded (FractionsUnits's planes:
-   sP, the material that fills a cell; sM its mass; sS its
-   density and e), and chosen by the sign of the face's displacement; a face
-   that FaceRun's test would send elsewhere has the flag 0.  Gas blocks
-   only (ms = PS_CQ), on ghosted cells k - 2 cd .. k + cd */
-enum { PS_FL_FLAG, PS_FL_POS, PS_FL_FA, PS_FL_FV, PS_FL_FM, PS_FL_FE, PS_FL_FT, PS_FL_N };
-static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const PetscReal *v, PetscInt d, PetscInt s1, PetscInt s2, PetscInt o0, PetscInt u0, PetscInt jd0, PetscInt jx, PetscInt cd, PetscReal A, PetscReal hdt, PetscInt ka, PetscInt kb, PetscInt w, PetscReal *W)
+/* FaceRun's arithmetic for the faces k in [ka, kb) of a run whose two
+   possible donors (the cells below and above each face) all hold material
+   s alone (C->sole: a face whose donor and both its neighbours along d are
+   filled by one material has two such donors), written straight into the
+   face records of s (F: value q of material m at F[(m ms + q) ft + k]) and
+   a flag per face into fl (1: the values are FaceFlux's for that face; 0:
+   FaceRun's loop takes the face).  o0: face 0's lower node, u0 the cell
+   above it, jd0 its index along d, jx 1 along x, else 0.  The same values,
+   without a branch: both donors and their neighbours are loaded
+   (FractionsUnits's planes: sP, the material that fills a cell; sM its mass;
+   sS its density and e), and chosen by the sign of the face's displacement;
+   a face that FaceRun's test would send elsewhere has the flag 0, and the
+   values it leaves in s's records are not read (the face's range, R, says
+   which materials it carries).  Gas blocks only (ms = PS_CQ), on ghosted
+   cells k - 2 cd .. k + cd */
+static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const PetscReal *v, PetscInt d, PetscInt s1, PetscInt s2, PetscInt o0, PetscInt u0, PetscInt jd0, PetscInt jx, PetscInt cd, PetscReal A, PetscReal hdt, PetscInt ka, PetscInt kb, PetscInt s, PetscReal *F, PetscInt ft, PetscReal *fl)
 {
   const PetscReal *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS, *sP = C->sP, *sM = C->sM;
-  const PetscInt   nc = C->nc[d];
+  const PetscInt   nm = C->nmat;
+  const PetscReal  ncr = (PetscReal)C->nc[d], jd0r = (PetscReal)jd0, jxr = (PetscReal)jx;
+  PetscReal       *FA = &F[nm * PS_CQ * ft], *FT = &F[(nm * PS_CQ + 1) * ft], *FV = &F[(s * PS_CQ + PS_CV) * ft], *FM = &F[(s * PS_CQ + PS_CM) * ft], *FE = &F[(s * PS_CQ + PS_CE) * ft];
   PetscInt         k;
 
 #pragma GCC ivdep
   for (k = ka; k < kb; k++) {
-    const PetscInt o = o0 + k, uN = u0 + k, uP = uN - cd, jd = jd0 + jx * k; /* donor uP (below) where delta > 0, else uN */
+    const PetscInt o = o0 + k, uN = u0 + k, uP = uN - cd; /* donor uP (below) where delta > 0, else uN */
     PetscReal      delta;
     if (dim == 3) delta = 0.0 + v[dim * o + d] + v[dim * (o + s1) + d] + v[dim * (o + s2) + d] + v[dim * (o + s1 + s2) + d];
     else delta = 0.0 + v[dim * o + d] + v[dim * (o + s1) + d];
@@ -481,114 +487,126 @@ static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const Pets
     const PetscReal w1 = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w1 * V / A * A;
     const PetscReal side = pos ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w1);
     const PetscReal dM = PetscMin(PetscMax(vol * (rho + off * VanLeerLanes(rho - rb, ra - rho)), 0.0), M);
-    const PetscBool in = pos ? jd - 1 >= 0 : jd < nc; /* the donor inside the domain */
-    W[PS_FL_FLAG * w + k] = delta != 0.0 && in && fd >= 0.0 && fm == fd && fp == fd && vol > 0.0 ? 1.0 : 0.0;
-    W[PS_FL_POS * w + k]  = pos ? 1.0 : 0.0;
-    W[PS_FL_FA * w + k]   = delta * A;
-    W[PS_FL_FV * w + k]   = side * vol;
-    W[PS_FL_FM * w + k]   = side * dM;
-    W[PS_FL_FE * w + k]   = side * dM * (ed + off * VanLeerLanes(ed - eb, ea - ed));
-    W[PS_FL_FT * w + k]   = 0.0 + side * dM;
+    const PetscReal jr = jd0r + jxr * (PetscReal)k; /* (the index along d as a real, not folded back to an integer: GCC 12 puts no choice by a test of reals between tests of integers in SIMD lanes) */
+    const PetscReal room = pos ? jr - 1.0 : ncr - 1.0 - jr;  /* >= 0: the donor inside the domain */
+    fl[k] = delta != 0.0 && room >= 0.0 && fd >= 0.0 && fm == fd && fp == fd && vol > 0.0 ? 1.0 : 0.0;
+    FA[k] = delta * A;
+    FV[k] = side * vol;
+    FM[k] = side * dM;
+    FE[k] = side * dM * (ed + off * VanLeerLanes(ed - eb, ea - ed));
+    FT[k] = 0.0 + side * dM;
   }
 }
 
-/* the faces j0 + k e_x, k < n (a run along x: a slice's row, or a line along
-   d = x), into F[k] (planes ft apart: value q at F[q ft + k]) and R[2 k].  A face whose donor and both its
-   neighbours along d are filled by one material (nearly every face of a
-   single-material region) takes here the arithmetic of FaceFlux's loop for
-   a pure donor with van Leer slopes, in its order, on FractionsUnits's
+/* face k of a run along x (FaceRun's j0, o0, u0) alone, into F[k] (planes
+   ft apart) and R[2 k]: a face whose donor and both its neighbours along d
+   are filled by one material takes the arithmetic of FaceFlux's loop for a
+   pure donor with van Leer slopes, in its order, on FractionsUnits's
    values, without its tests and with the indices carried along the run
    (FaceFlux spent about 220 instructions on such a face, most of them on
    indices and tests); any other face (a mixed, partial or boundary donor)
    takes FaceFlux itself, which gives such a face the same values */
+static inline __attribute__((always_inline)) void FaceOne(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt o0, PetscInt u0, PetscInt k, PetscReal *F, PetscInt ft, PetscInt *R)
+{
+  const PSCells   *C = S->cells;
+  const PetscInt   mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d, cd = sw->cd, sp = ms - 1, spcd = sp * cd, nc = C->nc[d];
+  const PetscReal  A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh, *fill = C->sP;
+  const PetscReal *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS;
+  const PetscInt   o = o0 + k;
+  PetscReal        delta, *Fk = &F[k];
+  PetscInt         cdn, uc, s, q;
+
+  /* the face's displacement (FaceFlux's sum, from 0) */
+  if (dim == 3) delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d] + v[dim * (o + sw->s2) + d] + v[dim * (o + sw->s1 + sw->s2) + d];
+  else delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d];
+  delta *= hdt;
+  /* the donor along d */
+  cdn = j0[d] + (d == 0 ? k : 0) - (delta > 0.0 ? 1 : 0);
+  uc  = u0 + k - (delta > 0.0 ? cd : 0);
+  if (delta == 0.0 || cdn < 0 || cdn >= nc) { /* nothing crosses, or void enters (FaceFlux's values) */
+    Fk[nm * ms * ft]       = delta * A;
+    Fk[(nm * ms + 1) * ft] = 0.0;
+    R[2 * k]               = nm;
+    R[2 * k + 1]           = 0;
+    return;
+  }
+  /* the donor and both its neighbours filled by one material s
+     (FractionsUnits's C->sP: FaceFlux's tests for its slopes, and more) */
+  s = (PetscInt)fill[uc];
+  if (s >= 0 && fill[uc - cd] == fill[uc] && fill[uc + cd] == fill[uc]) {
+    const PetscReal *blk = &U[ms * uc + mst * s];
+    const PetscReal  V = XV[uc], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
+    if (vol > 0.0) {
+      const PetscReal *spd = &sS[sp * uc], *sp0 = spd - spcd, *sp1 = spd + spcd;
+      const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
+      const PetscReal  dM = PetscMin(PetscMax(vol * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
+      PetscReal       *Fm = &Fk[s * ms * ft];
+      Fk[nm * ms * ft] = delta * A;
+      Fm[PS_CV * ft]   = side * vol;
+      Fm[PS_CM * ft]   = side * dM;
+      if (ms == PS_CQ) Fm[PS_CE * ft] = side * dM * (spd[1] + off * VanLeer(spd[1] - sp0[1], sp1[1] - spd[1]));
+      else
+        for (q = 1; q < ms - 1; q++) Fm[(q + 1) * ft] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
+      Fk[(nm * ms + 1) * ft] = 0.0 + side * dM;
+      R[2 * k]               = s;
+      R[2 * k + 1]           = s + 1;
+      return;
+    }
+  }
+  {
+    const PetscInt j[3] = {j0[0] + k, j0[1], j0[2]};
+    FaceFlux(S, ix, fr, dt, sw, dim, j, Fk, ft, &R[2 * k]);
+  }
+}
+
+/* the faces j0 + k e_x, k < n (a run along x: a slice's row, or a line along
+   d = x), into F[k] (planes ft apart: value q at F[q ft + k]) and R[2 k].
+   A gas's stretch of faces whose two possible donors hold one gas s alone
+   (found on C->sole eight cells at a time, PSCellsSoleRun) takes
+   FaceRunLanes, in SIMD lanes, straight into s's records, where the cells
+   two below to one above each face are in the ghosted array; the faces it
+   flags 0 (next to none inside a gas), and every other face, take FaceOne */
 static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, PetscReal *F, PetscInt ft, PetscInt *R)
 {
-  const PSCells      *C = S->cells;
-  const PetscInt      mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d, cd = sw->cd, sp = ms - 1;
-  const PetscReal     A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh;
-  const PetscReal    *fill = C->sP;
-  const PetscInt      o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), nc = C->nc[d], spcd = sp * cd;
-  const PetscReal    *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS; /* (in locals, with the neighbours' offset in sS) */
-  const PetscInt      nw = ix->gm[0]; /* (W's plane length: C->sW's) */
-  PetscReal          *W  = C->sW;
-  PetscInt            k, q, ka = 0, kb = 0;
+  const PSCells  *C = S->cells;
+  const PetscInt  d = sw->d, cd = sw->cd;
+  const PetscReal A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0);
+  const PetscInt  o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
+  const short    *sole = C->sole;
+  PetscReal      *fl = C->sW; /* (the lanes' flags) */
+  PetscInt        k, ka = 0, kb = 0;
 
-  /* a gas's faces in SIMD lanes where the cells two below to one above each
-     face are in the ghosted array (FaceRunLanes); then each face in order,
-     a face the lanes took from their planes */
-  if (ms == PS_CQ && S->run.lanes != 1) {
+  if (C->ms == PS_CQ && S->run.lanes != 1) {
     if (d == 0) {
       ka = PetscMax(C->gs[0] + 2 - j0[0], 0);
       kb = PetscMin(C->gs[0] + C->gm[0] - 1 - j0[0], n);
     } else if (j0[d] - 2 >= C->gs[d] && j0[d] + 1 <= C->gs[d] + C->gm[d] - 1) kb = n;
     kb = PetscMax(kb, ka);
-    {
-      /* (a run with few cells filled by one material, under a quarter: the
-         lanes would find little, and cost more than they save) */
-      PetscInt nf = 0;
-      for (k = ka; k < kb; k++) nf += fill[u0 + k] >= 0;
-      if (4 * nf < kb - ka) kb = ka;
-    }
-    FaceRunLanes(C, dim, v, d, sw->s1, sw->s2, o0, u0, j0[d], d == 0 ? 1 : 0, cd, A, hdt, ka, kb, nw, W);
   }
-  for (k = 0; k < n; k++) {
-    const PetscInt o = o0 + k;
-    PetscReal      delta, *Fk = &F[k];
-    PetscInt       cdn, uc, s;
-    if (k >= ka && k < kb && W[PS_FL_FLAG * nw + k] != 0.0) {
-      PetscReal *Fm;
-      s                      = (PetscInt)fill[u0 + k - (W[PS_FL_POS * nw + k] != 0.0 ? cd : 0)];
-      Fm                     = &Fk[s * ms * ft];
-      Fk[nm * ms * ft]       = W[PS_FL_FA * nw + k];
-      Fm[PS_CV * ft]         = W[PS_FL_FV * nw + k];
-      Fm[PS_CM * ft]         = W[PS_FL_FM * nw + k];
-      Fm[PS_CE * ft]         = W[PS_FL_FE * nw + k];
-      Fk[(nm * ms + 1) * ft] = W[PS_FL_FT * nw + k];
-      R[2 * k]               = s;
-      R[2 * k + 1]           = s + 1;
-      continue;
-    }
-    /* the face's displacement (FaceFlux's sum, from 0) */
-    if (dim == 3) delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d] + v[dim * (o + sw->s2) + d] + v[dim * (o + sw->s1 + sw->s2) + d];
-    else delta = 0.0 + v[dim * o + d] + v[dim * (o + sw->s1) + d];
-    delta *= hdt;
-    /* the donor along d */
-    cdn = j0[d] + (d == 0 ? k : 0) - (delta > 0.0 ? 1 : 0);
-    uc  = u0 + k - (delta > 0.0 ? cd : 0);
-    if (delta == 0.0 || cdn < 0 || cdn >= nc) { /* nothing crosses, or void enters (FaceFlux's values) */
-      Fk[nm * ms * ft]       = delta * A;
-      Fk[(nm * ms + 1) * ft] = 0.0;
-      R[2 * k]        = nm;
-      R[2 * k + 1]    = 0;
-      continue;
-    }
-    /* the donor and both its neighbours filled by one material s
-       (FractionsUnits's C->sP: FaceFlux's tests for its slopes, and more) */
-    s = (PetscInt)fill[uc];
-    if (s >= 0 && fill[uc - cd] == fill[uc] && fill[uc + cd] == fill[uc]) {
-      const PetscReal *blk = &U[ms * uc + mst * s];
-      const PetscReal  V = XV[uc], w = PetscMin(PetscAbsReal(delta) * A / V, 1.0), vol = w * V / A * A;
-      if (vol > 0.0) {
-        const PetscReal *spd = &sS[sp * uc], *sp0 = spd - spcd, *sp1 = spd + spcd;
-        const PetscReal  side = delta > 0.0 ? 1.0 : -1.0, off = side * 0.5 * (1.0 - w), rho = spd[0];
-        const PetscReal  dM = PetscMin(PetscMax(vol * (rho + off * VanLeer(rho - sp0[0], sp1[0] - rho)), 0.0), blk[PS_CM]);
-        PetscReal       *Fm = &Fk[s * ms * ft];
-        Fk[nm * ms * ft] = delta * A;
-        Fm[PS_CV * ft]   = side * vol;
-        Fm[PS_CM * ft]   = side * dM;
-        if (ms == PS_CQ) Fm[PS_CE * ft] = side * dM * (spd[1] + off * VanLeer(spd[1] - sp0[1], sp1[1] - spd[1]));
-        else
-          for (q = 1; q < ms - 1; q++) Fm[(q + 1) * ft] = side * dM * (spd[q] + off * VanLeer(spd[q] - sp0[q], sp1[q] - spd[q]));
-        Fk[(nm * ms + 1) * ft] = 0.0 + side * dM;
-        R[2 * k]        = s;
-        R[2 * k + 1]    = s + 1;
+  for (k = 0; k < n;) {
+    /* a stretch [k, e) of faces whose donors (cells u0 + k - cd and u0 + k)
+       hold gas s alone: along x the cells [k - 1, e) of the run, across x
+       the two rows' [k, e) */
+    if (k >= ka && k < kb && sole[u0 + k] >= 0 && sole[u0 + k - cd] == sole[u0 + k]) {
+      const PetscInt s = sole[u0 + k];
+      PetscInt       e = k + PSCellsSoleRun(&sole[u0 + k], kb - k), x, nz = 0;
+      if (d > 0) e = PetscMin(e, k + PSCellsSoleRun(&sole[u0 + k - cd], kb - k));
+      if (e - k >= PS_LANES_RUN) {
+        FaceRunLanes(C, dim, C->vh, d, sw->s1, sw->s2, o0, u0, j0[d], d == 0 ? 1 : 0, cd, A, hdt, k, e, s, F, ft, fl);
+        for (x = k; x < e; x++) {
+          R[2 * x]     = s;
+          R[2 * x + 1] = s + 1;
+        }
+        for (x = k; x < e; x++) nz += fl[x] == 0.0;
+        if (nz)
+          for (x = k; x < e; x++)
+            if (fl[x] == 0.0) FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, x, F, ft, R);
+        k = e;
         continue;
       }
     }
-    {
-      const PetscInt j[3] = {j0[0] + k, j0[1], j0[2]};
-      FaceFlux(S, ix, fr, dt, sw, dim, j, Fk, ft, &R[2 * k]);
-    }
+    FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, k, F, ft, R);
+    k++;
   }
 }
 
