@@ -34,7 +34,7 @@ includes = [p[2:] for p in v.get("PETSC_CC_INCLUDES", "").split() if p.startswit
 libdirs = [p[2:] for p in v.get("PETSC_WITH_EXTERNAL_LIB", "").split() if p.startswith("-L")][:2]
 sources = ["python/plyshock/_core.pyx"] + [os.path.join("src", f) for f in (
     "clip.c", "geom.c", "insert.c", "markers.c", "io.c", "solver.c", "fields.c", "step.c", "timestep.c", "grid.c",
-    "transfer_musl.c", "transfer_apic.c", "contact.c", "stress.c", "migrate.c", "totals.c", "halo.c", "run.c", "checkpoint.c",
+    "transfer_musl.c", "transfer_apic.c", "contact.c", "stress.c", "migrate.c", "totals.c", "halo.c", "run.c", "checkpoint.c", "memory.c",
     "materials/registry.c", "materials/eos_mie_gruneisen.c", "materials/eos_hypoelastic.c",
     "materials/strength.c", "materials/strength_zerilli_armstrong.c", "materials/strength_mts.c",
     "materials/failure_johnson_cook.c", "materials/failure_hashin.c",

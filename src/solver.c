@@ -11,7 +11,7 @@
 const char *const PSShapeTypes[]    = {"linear", "gimp", "bspline2", "PSShapeType", "PS_SHAPE_", NULL};
 const char *const PSTransferTypes[] = {"musl", "apic", "PSTransferType", "PS_TRANSFER_", NULL};
 
-PetscLogEvent PS_EV_P2G, PS_EV_Grid, PS_EV_G2P, PS_EV_Reproject, PS_EV_Stress, PS_EV_Migrate, PS_EV_Dt;
+PetscLogEvent PS_EV_P2G, PS_EV_Grid, PS_EV_G2P, PS_EV_Reproject, PS_EV_Stress, PS_EV_Migrate, PS_EV_Dt, PS_EV_Huge;
 
 /* A ghosted local grid vector whose array starts on a 64-byte boundary (a
    cache line), so a node of 4 or 8 reals never straddles two lines (PETSc
@@ -52,6 +52,7 @@ PetscErrorCode PSSolverCreate(const PSScene *scene, DM da, DM sw, const PSRunPar
     PetscCall(PetscLogEventRegister("PSStress", cid, &PS_EV_Stress));
     PetscCall(PetscLogEventRegister("PSMigrate", cid, &PS_EV_Migrate));
     PetscCall(PetscLogEventRegister("PSTimeStep", cid, &PS_EV_Dt));
+    PetscCall(PetscLogEventRegister("PSHugePages", cid, &PS_EV_Huge));
     registered = PETSC_TRUE;
   }
   PetscCall(PetscNew(&S));
@@ -224,6 +225,7 @@ PetscErrorCode PSRunParamsRead(MPI_Comm comm, PSRunParams *r)
   PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
   PetscCall(PetscOptionsReal("-checkpoint_interval", "simulated time between checkpoints (s); 0: at every output time", "plyshock", r->checkpoint_interval, &r->checkpoint_interval, NULL));
   PetscCall(PetscOptionsReal("-checkpoint_wall_interval", "wall time between checkpoints (s); 0: none", "plyshock", r->checkpoint_wall_interval, &r->checkpoint_wall_interval, NULL));
+  PetscCall(PetscOptionsBool("-hugepages", "back the large arrays with transparent huge pages (Linux; no result changes)", "plyshock", r->hugepages, &r->hugepages, NULL));
   PetscCall(PetscOptionsReal("-dt_floor", "stop when the time step falls below this share of the initial one; 0: never", "plyshock", r->dt_floor, &r->dt_floor, NULL));
   PetscOptionsEnd();
   r->shape    = (PSShapeType)shape;

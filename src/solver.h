@@ -170,6 +170,7 @@ typedef struct {
   PetscReal   checkpoint_interval;      /* s of simulated time between checkpoints; 0 = at every output time */
   PetscReal   checkpoint_wall_interval; /* s of wall time between checkpoints; 0 = none */
   PetscReal   dt_floor;        /* the run stops when the CFL time step falls below this share of the initial one (0 = never) */
+  PetscBool   hugepages;       /* the process's large arrays on transparent huge pages (memory.c; Linux; option only) */
 } PSRunParams;
 
 /* Where the outputs stand (run.c); checkpointed, so a restart continues the
@@ -220,6 +221,7 @@ typedef struct {
   PetscReal      smax;           /* global max of wave speed + |v| + viscous term (m/s) */
   PetscReal      mass_min;       /* node mass below which a node carries no velocity (kg) */
   PetscInt       step;
+  PetscInt       nstep_here;     /* steps this solver has taken (not counting a restart's): the huge pages' schedule (memory.c) */
   PetscInt      *lx[3];          /* DMDA node ownership: rank k owns [lx[k], lx[k+1]) */
   PetscInt       nproc[3];
   PetscReal     *dx;             /* scratch: marker displacement of the step */

@@ -29,6 +29,8 @@
 #include "cells/cells.h"
 #include "contact.h"
 
+#define PS_HUGE_EVERY 1000 /* steps between the huge pages' advice (memory.c) */
+
 /* scratch arrays sized for n markers (kept between steps) */
 static PetscErrorCode EnsureScratch(PSSolver *S, PetscInt n)
 {
@@ -86,5 +88,15 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   if (S->cells) PetscCall(PSCellsFitMarkers(S, PETSC_TRUE));
   S->t += dt;
   S->step++;
+  /* the large arrays on huge pages (memory.c): after this solver's first
+     step, when every array of the step exists, and every PS_HUGE_EVERY
+     steps after it */
+  if (S->run.hugepages && S->nstep_here++ % PS_HUGE_EVERY == 0) {
+    PetscLogDouble bytes;
+    PetscCall(PetscLogEventBegin(PS_EV_Huge, 0, 0, 0, 0));
+    PetscCall(PSMemoryHugePages(&bytes));
+    PetscCall(PetscLogEventEnd(PS_EV_Huge, 0, 0, 0, 0));
+    PetscCall(PetscInfo(NULL, "step %" PetscInt_FMT ": huge pages advised over %.1f MB\n", S->step, bytes / 1048576.0));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }

@@ -24,7 +24,7 @@
 #include "shape.h"
 
 /* one log event per phase (registered in solver.c) */
-PETSC_INTERN PetscLogEvent PS_EV_P2G, PS_EV_Grid, PS_EV_G2P, PS_EV_Reproject, PS_EV_Stress, PS_EV_Migrate, PS_EV_Dt;
+PETSC_INTERN PetscLogEvent PS_EV_P2G, PS_EV_Grid, PS_EV_G2P, PS_EV_Reproject, PS_EV_Stress, PS_EV_Migrate, PS_EV_Dt, PS_EV_Huge;
 
 /* corners of a rank's ghosted local arrays and of its owned nodes (DMDA indices) */
 typedef struct {
@@ -80,6 +80,7 @@ PETSC_INTERN PetscErrorCode PSMUSLReproject(PSSolver *, PSFields *, const PSInde
 PETSC_INTERN PetscErrorCode PSAPICP2G(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSAPICG2P(PSSolver *, PSFields *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSStressUpdate(PSSolver *, PSFields *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSMemoryHugePages(PetscLogDouble *bytes);
 
 /* boundary conditions on a node's velocity (or momentum): physical node ip */
 static inline void PSNodeBCDim(const PSSolver *S, const PetscInt dim, const PetscInt ip[3], PetscReal *v)

@@ -117,6 +117,7 @@ cdef extern from "solver.h":
         PetscReal dt_max
         PetscBool fbar
         PetscInt lanes
+        PetscBool hugepages
         PetscReal checkpoint_interval
         PetscReal checkpoint_wall_interval
         PetscReal dt_floor
@@ -407,6 +408,7 @@ cdef fill_run(PSRunParams *r, dict run):
     r.checkpoint_interval = run.get("checkpoint_interval", 0.0)
     r.checkpoint_wall_interval = run.get("checkpoint_wall_interval", 0.0)
     r.dt_floor = run.get("dt_floor", 1e-3)
+    r.hugepages = <PetscBool>(1 if run.get("hugepages", True) else 0)
 
 
 cdef dict run_dict(const PSRunParams *r):
@@ -415,7 +417,7 @@ cdef dict run_dict(const PSRunParams *r):
                 pic_fraction=r.pic_fraction, dt_growth=r.dt_growth, mass_threshold=r.mass_threshold,
                 max_steps=r.max_steps, history_interval=r.history_interval, progress_interval=r.progress_interval,
                 dt_max=r.dt_max, fbar=bool(r.fbar), lanes=r.lanes, checkpoint_interval=r.checkpoint_interval,
-                checkpoint_wall_interval=r.checkpoint_wall_interval, dt_floor=r.dt_floor)
+                checkpoint_wall_interval=r.checkpoint_wall_interval, dt_floor=r.dt_floor, hugepages=bool(r.hugepages))
 
 
 def run_params(dict run):
