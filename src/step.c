@@ -24,6 +24,8 @@
     migrate     migrate.c         out-of-domain markers booked, the rest to their owners
     fit         cells/closure.c   cell materials fitted around the markers' new volume (discarded, booked,
                                   where bodies meet in contact)
+    huge pages  memory.c          (after the first step, then every PS_HUGE_EVERY) the large arrays on
+                                  transparent huge pages
 */
 #include "step.h"
 #include "cells/cells.h"
