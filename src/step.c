@@ -93,12 +93,13 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   /* the large arrays on huge pages (memory.c): after this solver's first
      step, when every array of the step exists, and every PS_HUGE_EVERY
      steps after it */
-  if (S->run.hugepages && S->nstep_here++ % PS_HUGE_EVERY == 0) {
+  if (S->run.hugepages && S->nstep_here % PS_HUGE_EVERY == 0) {
     PetscLogDouble bytes;
     PetscCall(PetscLogEventBegin(PS_EV_Huge, 0, 0, 0, 0));
     PetscCall(PSMemoryHugePages(&bytes));
     PetscCall(PetscLogEventEnd(PS_EV_Huge, 0, 0, 0, 0));
     PetscCall(PetscInfo(NULL, "step %" PetscInt_FMT ": huge pages advised over %.1f MB\n", S->step, bytes / 1048576.0));
   }
+  S->nstep_here++;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
