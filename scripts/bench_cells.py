@@ -41,7 +41,7 @@ from mpi4py import MPI  # noqa: E402
 
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
-from benchlib import GAS, WALLS, quadrants_scene, timed_steps  # noqa: E402  (scripts/benchlib.py)
+from benchlib import GAS, WALLS, quadrants_scene, resident_bytes, timed_steps  # noqa: E402  (scripts/benchlib.py)
 
 opts = PETSc.Options()
 case = opts.getString("bench_case", "quadrants")
@@ -76,11 +76,19 @@ else:
 # it beside the stripped sweep of scripts/sweep_floor.c)
 PETSc.Log.begin()
 best = None
+grown = None
 for _ in range(reps):
+    rss0 = resident_bytes()
     m = core.initialize(scene)
     S = core.make_solver(m)
     for _ in range(5):
         S.step()
+    # what the scene's arrays hold: the process's resident growth over the
+    # first run's setup and warm-up (every array of the step exists after its
+    # first step; the huge pages' advice, memory.c, has run), per cell of the
+    # rank that grew most
+    if grown is None:
+        grown = mpi.allreduce((resident_bytes() - rss0) / (n * n / comm.getSize()), op=MPI.MAX)
     t = timed_steps(S, steps, mpi)
     best = t if best is None else min(best, t)
 rate = n * n * steps / best / comm.getSize()
@@ -88,6 +96,8 @@ if comm.getRank() == 0:
     print(f"cells benchmark ({what}, {n}^2 cells, {steps} steps, best of {reps} runs): {comm.getSize()} rank(s)")
     print(f"  {best:.3f} s: {rate / 1e6:.3f} M cell-updates/s/core, t = {S.time:.4f}")
     print(f"BENCH cells_{case}_{n}_{comm.getSize()} {rate:.6e}")
+    print(f"  resident growth over setup and warm-up: {grown:.0f} bytes per cell, {grown * n * n / comm.getSize() / 2**20:.1f} MiB per rank")
+    print(f"BENCH cells_bytes_per_cell_{case}_{n}_{comm.getSize()} {grown:.6e}")
 flux = PETSc.Log.Event("PSCellsFlux").getPerfInfo()
 ns = mpi.allreduce(flux["time"], op=MPI.MAX) / max(flux["count"], 1) / (n * n / comm.getSize()) * 1e9
 if comm.getRank() == 0:

@@ -68,6 +68,27 @@ def main():
     # the in-cache rate (128^2: the arrays, about 10 MB, sit in the caches), the ceiling of any reordering of the passes
     row("cells, quadrants 128^2 (in cache), 1 rank", "cells_quadrants_128_1", "pyclaw_256", "PyClaw 256^2 1 core, same run, best of 3")
     row("cells, quadrants 512^2 against 128^2 (in cache), 1 rank", "cells_quadrants_512_1", "cells_quadrants_128_1", "128^2, same run: what the caches cost")
+    # what the quadrants' arrays hold (bench_cells.py: the resident growth over
+    # setup and warm-up): beside the caches, what 512^2 against 128^2 costs
+    for n in (128, 256, 512):
+        k = f"cells_bytes_per_cell_quadrants_{n}_1"
+        if k in b:
+            rows.append((f"cells, quadrants {n}^2, 1 rank: resident bytes per cell", f"{b[k]:.0f} B, {b[k] * n * n / 2**20:.0f} MiB",
+                         "process's growth over setup and warm-up", "", "", ""))
+    # a pass of the step's kind (scripts/pass_curve.c) over the smallest power
+    # of two of MiB that holds each size's state: where 512^2 leaves the fast range
+    def pass_rate(n):
+        k = f"cells_bytes_per_cell_quadrants_{n}_1"
+        if k not in b:
+            return None, None
+        mib = 1
+        while mib < b[k] * n * n / 2**20 and mib < 512:
+            mib *= 2
+        return mib, b.get(f"pass_gbs_{mib}")
+    (m2, r2), (m5, r5) = pass_rate(256), pass_rate(512)
+    if r2 and r5:
+        rows.append(("a pass of the step's kind over the 512^2 quadrants' state, 1 core", f"{r5 / 1e9:.3g} GB/s over {m5} MiB",
+                     f"over the 256^2's, same run: {r2 / 1e9:.3g} GB/s over {m2} MiB", f"{r5 / r2:.2f}", "", ""))
     # the in-cache step's phases against the time per cell-update 2x PyClaw leaves
     ph = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor", "PSCellsPredict"), ("Lagrange", "PSCellsLagrange"), ("remap", "PSCellsRemap")]
     keys = [f"cells_phase_ns_{ev}_quadrants_128_1" for _, ev in ph]

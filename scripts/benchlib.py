@@ -1,7 +1,14 @@
 """What the solver benchmarks share: the wall time of a number of steps,
 between barriers so that every rank's share is in it; the quadrants scene
 (bench_cells.py, bench_cfl.py)."""
+import os
 import time
+
+
+def resident_bytes():
+    """This process's resident size now (bytes; /proc/self/statm's second field, in pages)."""
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
 
 
 def timed_steps(S, steps, mpi):
