@@ -459,13 +459,13 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
    a face that FaceRun's test would send elsewhere has the flag 0, and the
    values it leaves in s's records are not read (the face's range, R, says
    which materials it carries).  A face at rest (a gas at rest, or moving
-   across d) keeps its flag 1 and carries s with fluxes of zero (+-0; FaceOne
+   across d) keeps its flag 1 where its fluxes come out zero (+-0; FaceOne
    gave it an empty range): the cells add those zeros in lanes
    (CellUpdateLanes), where an empty range sent them one by one to
    CellUpdate, which adds nothing; adding +-0 changes no value but a -0,
    which no cell's V, M or E holds, so every result is bitwise the same (a
-   gas at rest ran 1.19-1.21x faster, twenty-eighth session).  Gas blocks only (ms = PS_CQ), on ghosted
-   cells k - 2 cd .. k + cd */
+   gas at rest ran 1.19-1.21x faster, twenty-eighth session).  Gas blocks
+   only (ms = PS_CQ), on ghosted cells k - 2 cd .. k + cd */
 static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const PetscReal *v, PetscInt d, PetscInt s1, PetscInt s2, PetscInt o0, PetscInt u0, PetscInt jd0, PetscInt jx, PetscInt cd, PetscReal A, PetscReal hdt, PetscInt ka, PetscInt kb, PetscInt s, PetscReal *F, PetscInt ft, PetscReal *fl)
 {
   const PetscReal *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS, *sP = C->sP, *sM = C->sM;
@@ -495,7 +495,7 @@ static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const Pets
     const PetscReal dM = PetscMin(PetscMax(vol * (rho + off * VanLeerLanes(rho - rb, ra - rho)), 0.0), M);
     const PetscReal jr = jd0r + jxr * (PetscReal)k; /* (the index along d as a real, not folded back to an integer: GCC 12 puts no choice by a test of reals between tests of integers in SIMD lanes) */
     const PetscReal room = pos ? jr - 1.0 : ncr - 1.0 - jr;  /* >= 0: the donor inside the domain */
-    fl[k] = delta == 0.0 || (room >= 0.0 && fd >= 0.0 && fm == fd && fp == fd && vol > 0.0) ? 1.0 : 0.0;
+    fl[k] = (delta == 0.0 && vol == 0.0 && dM == 0.0) || (room >= 0.0 && fd >= 0.0 && fm == fd && fp == fd && vol > 0.0) ? 1.0 : 0.0; /* (at rest: the zeros checked, not assumed of V and rho) */
     FA[k] = delta * A;
     FV[k] = side * vol;
     FM[k] = side * dM;
