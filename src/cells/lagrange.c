@@ -236,6 +236,21 @@ static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
   return sc > 0.0 ? pf : 0.0;
 }
 
+/* corner a's force component d of a lane cell whose stress is a pressure,
+   sg I (-sg grad N_a), with the viscous hourglass force of the rates hg
+   (kap: HourglassKappa): P2G's corner force (hg the rates at t^n), and the
+   predictor's change of it (sg and hg the changes) */
+static inline __attribute__((always_inline)) PetscReal GasLanesCornerForce(const PSCorners *K, const PetscInt dim, PetscInt a, PetscInt d, PetscReal sg, PetscReal kap, const PetscReal hg[4][3])
+{
+  const PetscInt nh = dim == 3 ? 4 : 1;
+  PetscReal      fd = 0.0;
+  PetscInt       e;
+  fd -= sg * K->gN[a][d];
+#pragma GCC unroll 4
+  for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
+  return fd;
+}
+
 /* The cells' P2G (ToGridGasCell: the cell of lane l, its inputs in;
    ToGridGasLanes: the row through GasLanesWalk) of the cells [0, nr) of a
    row (cell i0 + l in lane l, as PredictGasLanes) that hold one material
@@ -270,13 +285,7 @@ static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *
 #pragma GCC unroll 8
   for (a = 0; a < nco; a++)
 #pragma GCC unroll 3
-    for (d = 0; d < dim; d++) {
-      PetscReal fd = 0.0;
-      fd -= sg * K->gN[a][d];
-#pragma GCC unroll 4
-      for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
-      W[(PS_GL_F + a * dim + d) * w + l] = fs * fd;
-    }
+    for (d = 0; d < dim; d++) W[(PS_GL_F + a * dim + d) * w + l] = fs * GasLanesCornerForce(K, dim, a, d, sg, kap, hg);
   W[PS_GL_FLAG * w + l] = in.gas != 0.0 && M > 0.0 ? 1.0 : 0.0;
 }
 
@@ -652,23 +661,20 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
   for (l = 0; l < nr; l++) {
     const PetscInt   oc = oc0 + i0 + l;
     const PetscReal *gh = &HS[hsd * (n0 + l) + 1], kap = K->khg * W[PS_PL_MC * w + l] * W[PS_PL_CMAX * w + l], ds = W[PS_PL_DSIG * w + l];
-    PetscReal        hgh[4][3];
+    PetscReal        hgh[4][3], dh[4][3];
     PetscInt         d, e;
     HourglassRatesDim(K, dim, oc, vh, hgh);
 #pragma GCC unroll 4
     for (e = 0; e < nh; e++)
 #pragma GCC unroll 3
-      for (d = 0; d < dim; d++) W[(pg + dim * e + d) * w + l] = hgh[e][d];
+      for (d = 0; d < dim; d++) {
+        W[(pg + dim * e + d) * w + l] = hgh[e][d];
+        dh[e][d]                      = hgh[e][d] - gh[dim * e + d]; /* (the rates' change) */
+      }
 #pragma GCC unroll 8
     for (a = 0; a < nco; a++)
 #pragma GCC unroll 3
-      for (d = 0; d < dim; d++) {
-        PetscReal fd = 0.0;
-        fd -= ds * K->gN[a][d];
-#pragma GCC unroll 4
-        for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * (hgh[e][d] - gh[dim * e + d]);
-        W[(PS_PL_F + a * dim + d) * w + l] = fd;
-      }
+      for (d = 0; d < dim; d++) W[(PS_PL_F + a * dim + d) * w + l] = GasLanesCornerForce(K, dim, a, d, ds, kap, dh);
   }
 }
 
@@ -788,11 +794,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
 {
   PSCells        *C = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
-  const PetscInt  dof = PSGridDof(S), nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
+  const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
-  PetscReal      *g = S->g, hm = 0.0, *W = C->sW;
+  PetscReal       hm = 0.0, *W = C->sW;
   PetscInt        i, j, k, m, d, e, a, lo[3], hi[3], n = 0, orow, nb = 0, nxt;
 
   PetscFunctionBeginUser;
