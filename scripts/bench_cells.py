@@ -29,7 +29,9 @@ so is BENCH cells_flux_ns_<case>_<n>_<ranks>: the remap's flux phase (event
 PSCellsFlux, the slowest rank: the fractions, faces, dual fluxes and cell
 updates, as the stripped sweep computes its densities per row) in ns per cell
 and sweep, which the table sets beside scripts/sweep_floor.c's stripped sweep
-of the pure case.  Then each phase's event in ns per cell-update.
+of the pure case; and BENCH cells_bytes_per_cell_<case>_<n>_<ranks>: the
+process's resident growth over the first run's setup and warm-up, per cell
+of the rank that grew most.  Then each phase's event in ns per cell-update.
 """
 import sys
 

@@ -1,6 +1,6 @@
 """What the solver benchmarks share: the wall time of a number of steps,
-between barriers so that every rank's share is in it; the quadrants scene
-(bench_cells.py, bench_cfl.py)."""
+between barriers so that every rank's share is in it; the process's
+resident size; the quadrants scene (bench_cells.py, bench_cfl.py)."""
 import os
 import time
 
