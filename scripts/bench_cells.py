@@ -14,6 +14,14 @@
              cell takes the mixed-cell path (closure, interface reconstruction,
              each material's part of the donor slab).  mixed / pure is the cost
              of a mixed cell against a pure one.
+  boxes      the pure case's flow with four identical gases, one in each of
+             the quadrants' four boxes (cut at x = y = 0.8): the quadrants'
+             materials and interfaces without their waves.  boxes / pure is
+             what the four materials and their two interfaces cost (an
+             interface crossing a row breaks its runs of one gas: the cells
+             around it leave the SIMD lanes; -bench_layout columns puts the
+             four in columns a quarter wide instead, three interfaces across
+             every row).
 
 Runs a number of steps after a warm-up and prints cell-updates per second per
 core (cells x steps / wall time of the steps), the figure PyClaw's peer script
@@ -22,9 +30,9 @@ prints (../shared/peers/pyclaw_euler.py, run by scripts/bench); the best of
 takes PyClaw's best of as many (this machine's speed drifts from one run to
 the next).
 
-    mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants] [-bench_n 256] [-bench_steps 100] [-bench_reps 3]
+    mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants] [-bench_n 256] [-bench_steps 100] [-bench_reps 3] [-bench_layout quadrants]
 
-The line BENCH cells_<case>_<n>_<ranks> <rate> is for scripts/bench's table;
+The line BENCH cells_<case>_<n>_<ranks> <rate> (case columns for the boxes in columns) is for scripts/bench's table;
 so is BENCH cells_flux_ns_<case>_<n>_<ranks>: the remap's flux phase (event
 PSCellsFlux, the slowest rank: the fractions, faces, dual fluxes and cell
 updates, as the stripped sweep computes its densities per row) in ns per cell
@@ -43,17 +51,21 @@ from mpi4py import MPI  # noqa: E402
 
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
-from benchlib import GAS, WALLS, quadrants_scene, resident_bytes, timed_steps  # noqa: E402  (scripts/benchlib.py)
+from benchlib import GAS, QUADRANTS, WALLS, quadrants_scene, resident_bytes, timed_steps  # noqa: E402  (scripts/benchlib.py)
 
 opts = PETSc.Options()
 case = opts.getString("bench_case", "quadrants")
 n = opts.getInt("bench_n", 256)
 steps = opts.getInt("bench_steps", 100)
 reps = opts.getInt("bench_reps", 3)
+layout = opts.getString("bench_layout", "quadrants")
+tag = "columns" if case == "boxes" and layout == "columns" else case  # (the BENCH lines' name)
 if reps < 1:
     sys.exit(f"bench_cells.py: -bench_reps must be >= 1, got {reps}")
-if case not in ("quadrants", "pure", "mixed"):
-    sys.exit(f"bench_cells.py: -bench_case must be quadrants, pure or mixed, got {case!r}")
+if case not in ("quadrants", "pure", "mixed", "boxes"):
+    sys.exit(f"bench_cells.py: -bench_case must be quadrants, pure, mixed or boxes, got {case!r}")
+if layout not in ("quadrants", "columns"):
+    sys.exit(f"bench_cells.py: -bench_layout must be quadrants or columns, got {layout!r}")
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
 
@@ -68,11 +80,19 @@ else:
     if case == "pure":
         mats = [Material("a", density=1.0, eos=GAS)]
         bodies = [Body("a", box=Box([0, 0], [1, 1]), material="a", representation="cells", pressure=1.0, velocity=v)]
+    elif case == "boxes":
+        mats = [Material(f"g{k}", density=1.0, eos=GAS) for k in range(4)]
+        if layout == "quadrants":
+            boxes = [Box([xr[0], yr[0]], [xr[1], yr[1]]) for _, xr, yr, *_ in QUADRANTS]
+        else:
+            boxes = [Box([k / 4, 0.0], [(k + 1) / 4, 1.0]) for k in range(4)]
+        bodies = [Body(f"b{k}", box=boxes[k], material=f"g{k}", representation="cells", pressure=1.0, velocity=v) for k in range(4)]
     else:
         mats = [Material("a", density=1.0, eos=GAS), Material("b", density=1.0, eos=GAS)]
         bodies = [Body(f"s{i}", box=Box([max(0.0, (i - 0.5) * h), 0], [min(1.0, (i + 0.5) * h), 1]), material="ab"[i % 2],
                        representation="cells", pressure=1.0, velocity=v) for i in range(n + 1)]
-    what = f"uniform flow, {'one gas' if case == 'pure' else 'two gases in half-cell stripes, every cell mixed'}"
+    what = "uniform flow, " + {"pure": "one gas", "mixed": "two gases in half-cell stripes, every cell mixed",
+                               "boxes": f"four gases in the {layout}' boxes"}[case]
     scene = Scene(2, Grid([0, 0], [1, 1], [n, n], WALLS), mats, bodies, Run(t_end=10.0, cfl=0.4)).validate()
 # the remap's flux phase per cell and sweep (its log event; scripts/bench sets
 # it beside the stripped sweep of scripts/sweep_floor.c)
@@ -97,14 +117,14 @@ rate = n * n * steps / best / comm.getSize()
 if comm.getRank() == 0:
     print(f"cells benchmark ({what}, {n}^2 cells, {steps} steps, best of {reps} runs): {comm.getSize()} rank(s)")
     print(f"  {best:.3f} s: {rate / 1e6:.3f} M cell-updates/s/core, t = {S.time:.4f}")
-    print(f"BENCH cells_{case}_{n}_{comm.getSize()} {rate:.6e}")
+    print(f"BENCH cells_{tag}_{n}_{comm.getSize()} {rate:.6e}")
     print(f"  resident growth over setup and warm-up: {grown:.0f} bytes per cell, {grown * n * n / comm.getSize() / 2**20:.1f} MiB per rank")
-    print(f"BENCH cells_bytes_per_cell_{case}_{n}_{comm.getSize()} {grown:.6e}")
+    print(f"BENCH cells_bytes_per_cell_{tag}_{n}_{comm.getSize()} {grown:.6e}")
 flux = PETSc.Log.Event("PSCellsFlux").getPerfInfo()
 ns = mpi.allreduce(flux["time"], op=MPI.MAX) / max(flux["count"], 1) / (n * n / comm.getSize()) * 1e9
 if comm.getRank() == 0:
     print(f"  the remap's flux phase: {ns:.1f} ns per cell and sweep ({flux['count']} sweeps)")
-    print(f"BENCH cells_flux_ns_{case}_{n}_{comm.getSize()} {ns:.6e}")
+    print(f"BENCH cells_flux_ns_{tag}_{n}_{comm.getSize()} {ns:.6e}")
 # where a cell-update's time goes: each phase's log event (the slowest rank's
 # time, warm-up steps and every run included) in ns per cell and step, so the
 # phases can be set beside the time a target rate leaves for a whole step
@@ -119,6 +139,6 @@ for label, ev in phases:
     t = mpi.allreduce(PETSc.Log.Event(ev).getPerfInfo()["time"], op=MPI.MAX) / nstep / (n * n / comm.getSize()) * 1e9
     parts.append(f"{label} {t:.1f}")
     if comm.getRank() == 0:
-        print(f"BENCH cells_phase_ns_{ev}_{case}_{n}_{comm.getSize()} {t:.6e}")
+        print(f"BENCH cells_phase_ns_{ev}_{tag}_{n}_{comm.getSize()} {t:.6e}")
 if comm.getRank() == 0:
     print(f"  ns per cell-update by phase (remap = nodal velocities + fractions+faces+cells + halo+masses + KE fix): {', '.join(parts)}")

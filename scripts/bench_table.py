@@ -121,6 +121,19 @@ def main():
     if "cells_instructions_quadrants_128" in b:
         rows.append(("cells, quadrants 128^2, 1 rank: instructions per cell-update", f"{b['cells_instructions_quadrants_128']:.0f}",
                      "valgrind callgrind, the same on every run", "", "", ""))
+    # what the quadrants' four materials and their interfaces cost, without their
+    # waves: the pure case's flow with four gases in the quadrants' boxes, and in
+    # columns (three interfaces across every row), against one gas, in time (same
+    # run) and in instructions (valgrind): the time's ratio above the
+    # instructions' is what the seams between runs of one gas cost beyond their
+    # instructions
+    for c, lab in (("boxes", "the quadrants' boxes"), ("columns", "four columns")):
+        if f"cells_{c}_128_1" in b and "cells_pure_128_1" in b:
+            rt = b["cells_pure_128_1"] / b[f"cells_{c}_128_1"]
+            ki = f"cells_instructions_{c}_128"
+            ri = b[ki] / b["cells_instructions_pure_128"] if ki in b and "cells_instructions_pure_128" in b else None
+            rows.append((f"cells, four gases in {lab} against one gas, uniform flow 128^2, 1 rank: time", f"{rt:.2f}x",
+                         f"instructions, same run: {ri:.2f}x" if ri else "-", f"{rt / ri:.2f}" if ri else "-", "", ""))
     # time to a solution: the quadrants at 128^2 to t = 0.3 at run.cfl 0.8 against the default 0.4 (scripts/bench_cfl.py)
     if "cfl_wall_0.8_0.4" in b:
         rows.append(("cells, quadrants 128^2 to t = 0.3, run.cfl 0.8 against 0.4, 1 rank", f"{b['cfl_wall_0.8_0.4']:.2f}x the wall time",
