@@ -57,8 +57,17 @@ ext = Extension(
     # (a canary checked at the return of every function with a local array);
     # the C here relies on neither, and without both the cells' quadrants
     # step takes 0.93-0.96x the time (side by side, median of 16 pairs; each
-    # alone about 0.99x), every result bitwise the same
-    extra_compile_args=["-O3", "-march=native", "-fno-math-errno", "-fno-wrapv", "-fno-stack-protector", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
+    # alone about 0.99x), every result bitwise the same.  -fno-trapping-math:
+    # GCC may compute a floating-point operation whose result a test then
+    # discards (a division by a mass that may be zero, chosen away), so more
+    # of the scalar code's tests become selects without a branch; no value
+    # changes (IEEE results are the same; only the exception flags, which
+    # nothing here reads, may be raised by an operation not in the source's
+    # path: PETSc's -fp_trap may stop there).  The quadrants take 0.94x the
+    # time at 256^2 (median of 8 pairs), the pure gas 0.96x, a cell-only
+    # scene in which every cell is mixed 1.03x; every result bitwise the same
+    # (twenty-ninth session, docs/speed.md)
+    extra_compile_args=["-O3", "-march=native", "-fno-math-errno", "-fno-trapping-math", "-fno-wrapv", "-fno-stack-protector", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
     depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/step.h", "src/shape.h", "src/materials.h",
              "src/cells/cells.h", "src/cells/closure.h", "src/cells/plic.h"],
 )

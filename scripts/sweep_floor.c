@@ -36,7 +36,7 @@
   neither -fwrapv nor a stack protector, which setup.py turns off); exits 1
   if the sweeps did not conserve the mass to round-off or the forms differ.
 
-    cc -O3 -march=native -fno-math-errno -std=c99 scripts/sweep_floor.c -o out/sweep_floor -lm
+    cc -O3 -march=native -fno-math-errno -fno-trapping-math -std=c99 scripts/sweep_floor.c -o out/sweep_floor -lm
     out/sweep_floor [n=256] [sweeps per run=200]      (best of 5 runs of each form)
 */
 #define _POSIX_C_SOURCE 199309L
