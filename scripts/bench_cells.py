@@ -18,10 +18,10 @@
              the quadrants' four boxes (cut at x = y = 0.8): the quadrants'
              materials and interfaces without their waves.  boxes / pure is
              what the four materials and their two interfaces cost (an
-             interface crossing a row breaks its runs of one gas: the cells
-             around it leave the SIMD lanes; -bench_layout columns puts the
-             four in columns a quarter wide instead, three interfaces across
-             every row).
+             interface crossing a row cuts its run of one gas, and each run
+             repeats its work: scans, lanes loops' set-up and remainders;
+             -bench_layout columns puts the four in columns a quarter wide
+             instead, three interfaces across every row).
 
 Runs a number of steps after a warm-up and prints cell-updates per second per
 core (cells x steps / wall time of the steps), the figure PyClaw's peer script
