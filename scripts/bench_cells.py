@@ -66,6 +66,8 @@ if case not in ("quadrants", "pure", "mixed", "boxes"):
     sys.exit(f"bench_cells.py: -bench_case must be quadrants, pure, mixed or boxes, got {case!r}")
 if layout not in ("quadrants", "columns"):
     sys.exit(f"bench_cells.py: -bench_layout must be quadrants or columns, got {layout!r}")
+if layout != "quadrants" and case != "boxes":
+    sys.exit(f"bench_cells.py: -bench_layout {layout} is for -bench_case boxes only, got -bench_case {case}")
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
 
