@@ -29,6 +29,13 @@ def petsc_variables():
     return out
 
 
+def optflags():
+    """The optimisation flags (src/optflags, one per line; the comment at the extension below says why each)."""
+    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "src", "optflags")) as f:
+        return [line.strip() for line in f if line.strip()]
+
+
+OPTFLAGS = optflags()
 v = petsc_variables()
 includes = [p[2:] for p in v.get("PETSC_CC_INCLUDES", "").split() if p.startswith("-I")]
 libdirs = [p[2:] for p in v.get("PETSC_WITH_EXTERNAL_LIB", "").split() if p.startswith("-L")][:2]
@@ -49,7 +56,9 @@ ext = Extension(
     library_dirs=libdirs,
     runtime_library_dirs=libdirs,
     libraries=["petsc_real", "hdf5", "mpi"],
-    # built on the machine that runs it (scripts/setup), so -march=native is safe;
+    # the optimisation flags, one per line in src/optflags (scripts/bench builds
+    # its stripped floors with the same file); built on the machine that runs it
+    # (scripts/setup), so -march=native is safe;
     # -fno-math-errno: sqrt becomes one instruction, not a call kept for errno
     # (nothing reads errno; every result is bitwise the same).  Python's own
     # CFLAGS bring -fwrapv (signed overflow wraps: every int index is then
@@ -67,9 +76,9 @@ ext = Extension(
     # time at 256^2 (median of 8 pairs), the pure gas 0.96x, a cell-only
     # scene in which every cell is mixed 1.03x; every result bitwise the same
     # (twenty-ninth session, docs/speed.md)
-    extra_compile_args=["-O3", "-march=native", "-fno-math-errno", "-fno-trapping-math", "-fno-wrapv", "-fno-stack-protector", "-fstrict-aliasing", "-std=c99", "-Wno-unused-function"],
+    extra_compile_args=OPTFLAGS + ["-Wno-unused-function"],
     depends=["src/plyshock.h", "src/geom.h", "src/clip.h", "src/solver.h", "src/step.h", "src/shape.h", "src/materials.h",
-             "src/cells/cells.h", "src/cells/closure.h", "src/cells/plic.h"],
+             "src/cells/cells.h", "src/cells/closure.h", "src/cells/plic.h", "src/optflags"],
 )
 
 setup(

@@ -47,7 +47,7 @@
   steps); the figure is ns per cell and step.  Built and run like
   sweep_floor.c, with the extension's optimisation flags:
 
-    cc -O3 -march=native -fno-math-errno -fno-trapping-math -std=c99 scripts/lagrange_floor.c -o out/lagrange_floor -lm
+    cc $(cat src/optflags) scripts/lagrange_floor.c -o out/lagrange_floor -lm
     out/lagrange_floor [n=256] [steps=100]      (best of 5 runs of each form)
 
   Not plyshock's solver: a yardstick of what these phases of this scheme

@@ -22,7 +22,12 @@
     runs each in SIMD lanes; the figure the bench compares with;
   - passes, interleaved: the same over a cell's volume, mass and energy side
     by side and a node's two momenta side by side, as plyshock stores a
-    material's block and the nodes: what the layout costs.
+    material's block and the nodes.  Not what that layout costs plyshock:
+    GCC 12 leaves this form's loop over the interior faces scalar (its
+    -fopt-info-vec: "couldn't vectorize loop"; the nodes' momenta side by
+    side cost nothing, the cells' blocks side by side all of it, even with
+    the faces reading a row's V and M from planes as plyshock's faces do),
+    and plyshock's own face loops run in SIMD lanes over its blocks.
   min/max are the ternaries of PetscMin/PetscMax, as in plyshock: C's
   fmin/fmax order NaNs, which keeps GCC from running them in lanes (with them
   the one pass took 1.7x as long and the passes 2x).  The flow turns each
@@ -32,11 +37,12 @@
   Not plyshock's solver: a yardstick of what a kernel of this scheme costs on
   this machine once generality is gone, printed beside plyshock's own flux
   phase per cell and sweep (the pure-gas bench case) in the same bench run.
-  Built with the extension's optimisation flags (setup.py; cc by itself has
-  neither -fwrapv nor a stack protector, which setup.py turns off); exits 1
+  Built with the extension's optimisation flags (src/optflags, which setup.py
+  reads; -fno-wrapv and -fno-stack-protector there undo what Python's CFLAGS
+  bring, and are cc's defaults anyway); exits 1
   if the sweeps did not conserve the mass to round-off or the forms differ.
 
-    cc -O3 -march=native -fno-math-errno -fno-trapping-math -std=c99 scripts/sweep_floor.c -o out/sweep_floor -lm
+    cc $(cat src/optflags) scripts/sweep_floor.c -o out/sweep_floor -lm
     out/sweep_floor [n=256] [sweeps per run=200]      (best of 5 runs of each form)
 */
 #define _POSIX_C_SOURCE 199309L
