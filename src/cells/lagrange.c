@@ -401,7 +401,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
              their corners to the nodes in lanes, in this loop's order */
           const PetscInt l0 = i - C->xs[0];
           PetscInt       l1 = l0 + 1;
-          while (l1 + C->xs[0] < PetscMin(xb, C->ce[0]) && W[PS_GL_FLAG * nw + l1] != 0.0) l1++; /* (xb may lie beyond the row's cells) */
+          l1 = PSLanesFlagRun(&W[PS_GL_FLAG * nw], l1, PetscMin(xb, C->ce[0]) - C->xs[0]); /* (xb may lie beyond the row's cells) */
           GasLanesNodes(dim, &C->K, oc0 + C->xs[0], orow, l0, l1, dof, fo, nw, &W[PS_GL_MC * nw], &W[PS_GL_F * nw], g);
           n += l1 - l0 - 1;
           i += l1 - l0 - 1;
@@ -838,7 +838,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
              this loop's order (GasLanesNodes) */
           const PetscInt pg = PS_PL_F + nco * dim;
           PetscInt       l1 = l + 1, x;
-          while (l1 + C->xs[0] < PetscMin(xb, C->ce[0]) && W[PS_PL_FLAG * nw + l1] != 0.0) l1++; /* (xb may lie beyond the row's cells) */
+          l1 = PSLanesFlagRun(&W[PS_PL_FLAG * nw], l1, PetscMin(xb, C->ce[0]) - C->xs[0]); /* (xb may lie beyond the row's cells) */
           for (x = l; x < l1; x++) {
             PetscReal *hx = &C->hs[hsd * (n + x - l)];
             PredictLaneCell(C, n + x - l, ci + x - l, hmat, W, nw, x, hx);
@@ -1110,8 +1110,8 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
              XV, read), then the time step's speeds in the cells' order, as
              below (Fastest, where one is not below the largest so far) */
           const PetscInt s = C->sole[ci], len0 = PSCellsSoleRun(&C->sole[ci], C->ce[0] - i);
-          PetscInt       len = 1, x;
-          while (len < len0 && W[PS_LL_FLAG * nw + l + len] != 0.0) len++;
+          const PetscInt len = PSLanesFlagRun(&W[PS_LL_FLAG * nw + l], 1, len0);
+          PetscInt       x;
           if (len >= PS_LANES_RUN) {
             PetscReal       *B = &C->u[PS_CQ * ci + s * C->mst], *xv = &XV[ci], *xq = &XQ[ci], *Wv = &W[PS_LL_XV * nw + l];
             const PetscReal *Wq = &W[PS_LL_Q * nw + l], *W1 = &W[PS_LL_V1 * nw + l], *We = &W[PS_LL_E1 * nw + l];
