@@ -181,20 +181,36 @@ static inline PetscInt PSCellsSoleRun(const short *sole, PetscInt n)
     for (q = b; q < b + 16; q++) diff |= sole[q] ^ s0;
     if (diff) break;
   }
+  /* the last sixteen (overlapping those matched) where fewer remain: all
+     match, and the run reaches n without the one-at-a-time tail */
+  if (b < n && b + 16 > n && n >= 16) {
+    int diff = 0;
+#pragma GCC unroll 1
+    for (q = n - 16; q < n; q++) diff |= sole[q] ^ s0;
+    if (!diff) return n;
+  }
   for (; b < n && sole[b] == s0; b++) {}
   return b;
 }
 
 /* the first l in [l1, e) whose lanes' flag is 0 (the lanes did not take its
-   cell), or e: sixteen at a time while none is, as PSCellsSoleRun */
+   cell), or e: sixteen at a time while none is, and the last sixteen of
+   [l1, e) at once, as PSCellsSoleRun */
 static inline PetscInt PSLanesFlagRun(const PetscReal *flag, PetscInt l1, PetscInt e)
 {
   PetscInt q;
+  const PetscInt l0 = l1;
   for (; l1 + 16 <= e; l1 += 16) {
     int z = 0;
 #pragma GCC unroll 1
     for (q = l1; q < l1 + 16; q++) z |= flag[q] == 0.0;
     if (z) break;
+  }
+  if (l1 < e && l1 + 16 > e && e - 16 >= l0) {
+    int z = 0;
+#pragma GCC unroll 1
+    for (q = e - 16; q < e; q++) z |= flag[q] == 0.0;
+    if (!z) return e;
   }
   while (l1 < e && flag[l1] != 0.0) l1++;
   return l1;

@@ -568,7 +568,7 @@ static inline __attribute__((always_inline)) void FaceOne(const PSSolver *S, con
 /* the faces j0 + k e_x, k < n (a run along x: a slice's row, or a line along
    d = x), into F[k] (planes ft apart: value q at F[q ft + k]) and R[2 k].
    A gas's stretch of faces whose two possible donors hold one gas s alone
-   (found on C->sole eight cells at a time, PSCellsSoleRun) takes
+   (found on C->sole sixteen cells at a time, PSCellsSoleRun) takes
    FaceRunLanes, in SIMD lanes, straight into s's records, where the cells
    two below to one above each face are in the ghosted array (faces at rest
    too); the faces it flags 0 (next to none inside a gas), and every other
@@ -1026,11 +1026,18 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
       const short   *so   = &C->sole[u0];
       const PetscInt bmax = d == 0 ? (j0[0] + k > 0 ? PetscMin(n, C->nc[0] - 1 - j0[0]) : k) : (innerd ? n : k);
       PetscInt       b    = k;
+      PetscInt       diff, q;
       for (; b + 16 <= bmax; b += 16) {
-        PetscInt diff = 0, q;
+        diff = 0;
 #pragma GCC unroll 1
         for (q = b; q < b + 16; q++) diff |= ((PetscInt)so[q] ^ s) | (Rl[2 * q] ^ s) | (Rl[2 * q + 1] ^ (s + 1)) | (Rh[2 * q] ^ s) | (Rh[2 * q + 1] ^ (s + 1));
         if (diff) break;
+      }
+      if (b < bmax && b + 16 > bmax && bmax - 16 >= k) { /* (the last sixteen at once, as PSCellsSoleRun) */
+        diff = 0;
+#pragma GCC unroll 1
+        for (q = bmax - 16; q < bmax; q++) diff |= ((PetscInt)so[q] ^ s) | (Rl[2 * q] ^ s) | (Rl[2 * q + 1] ^ (s + 1)) | (Rh[2 * q] ^ s) | (Rh[2 * q + 1] ^ (s + 1));
+        if (!diff) b = bmax;
       }
       while (b < bmax && so[b] == s && Rl[2 * b] == s && Rl[2 * b + 1] == s + 1 && Rh[2 * b] == s && Rh[2 * b + 1] == s + 1) b++;
       if (b - k >= PS_LANES_RUN) {
