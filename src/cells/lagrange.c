@@ -874,10 +874,27 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           const PetscInt pg = PS_PL_F + nco * dim;
           PetscInt       l1 = l + 1, x;
           l1 = PSLanesFlagRun(&W[PS_PL_FLAG * nw], l1, PetscMin(xb, C->ce[0]) - C->xs[0]); /* (xb may lie beyond the row's cells) */
-          for (x = l; x < l1; x++) {
-            PetscReal *pk = &PSCellsHM(C, n + x - l, hmat)[C->sole[ci + x - l] * hmat]; /* (PredictLaneCell's p_k^h; q^h below) */
-            for (e = 1; e < hmat; e++) pk[e] = 0.0;
-            pk[0] = W[PS_PL_PK * nw + x];
+          {
+            /* PredictLaneCell's p_k^h (q^h below) into each cell's slot of its
+               material, eco[n] + sole: where the run's slots follow one
+               another (cells of one gas: one slot each, in order; checked in
+               SIMD lanes) and hold p alone (no strength), a loop of stores
+               in SIMD lanes; else one by one */
+            const PetscInt *eco = &C->eco[n - l];
+            const short    *so  = &C->sole[ci - l];
+            const PetscInt  z0  = eco[l] + so[l];
+            PetscInt        gap = 0;
+            for (x = l; x < l1; x++) gap |= (eco[x] + so[x]) ^ (z0 + x - l);
+            if (!gap && hmat == 1) {
+              PetscReal       *pk = &C->hm[z0 - l];
+              const PetscReal *Wp = &W[PS_PL_PK * nw];
+              for (x = l; x < l1; x++) pk[x] = Wp[x];
+            } else
+              for (x = l; x < l1; x++) {
+                PetscReal *pk = &C->hm[hmat * (eco[x] + so[x])];
+                for (e = 1; e < hmat; e++) pk[e] = 0.0;
+                pk[0] = W[PS_PL_PK * nw + x];
+              }
           }
           {
             /* each cell's q^h and hourglass rates into its slot, side by side:

@@ -605,16 +605,27 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
           R[2 * x + 1] = s + 1;
         }
         for (x = k; x < e; x++) nz += fl[x] == 0.0;
-        if (nz) {
-          /* the faces the lanes left (flag 0) to FaceOne, in order, from the
-             first of them to the last (found from either end: they lie
-             mostly at a stretch's ends, and the test over every face of the
-             stretch was 0.6% of the quadrants' instructions) */
-          PetscInt x0 = k, x1 = e - 1;
-          while (fl[x0] != 0.0) x0++;
-          while (fl[x1] != 0.0) x1--;
-          for (x = x0; x <= x1; x++)
-            if (fl[x] == 0.0) FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, x, F, ft, R);
+        /* the faces the lanes left (flag 0) to FaceOne, in order: sixteen
+           without one passed over at once (tested in SIMD lanes), until the
+           last is done (testing every face of the stretch one by one was
+           0.6% of the quadrants' instructions) */
+        for (x = k; nz > 0;) {
+          const PetscInt xe = PetscMin(x + 16, e);
+          if (xe - x == 16) {
+            int z = 0;
+            PetscInt q;
+#pragma GCC unroll 1
+            for (q = x; q < xe; q++) z |= fl[q] == 0.0;
+            if (!z) {
+              x = xe;
+              continue;
+            }
+          }
+          for (; x < xe; x++)
+            if (fl[x] == 0.0) {
+              FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, x, F, ft, R);
+              nz--;
+            }
         }
         k = e;
         continue;
