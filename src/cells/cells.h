@@ -173,7 +173,7 @@ static inline PetscInt PSCellsSoleRun(const short *sole, PetscInt n)
   PetscInt    b, q;
   /* sixteen at a time while all match (a loop without an exit inside, and
      not unrolled, which GCC compares in SIMD lanes; unrolled, as it was
-     until the thirtieth session, GCC compared them one by one: 3.4% of the
+     until the thirtieth session, GCC compared them one by one: 3.6% of the
      quadrants' instructions), then one at a time */
   for (b = 1; b + 16 <= n; b += 16) {
     int diff = 0;
