@@ -771,8 +771,8 @@ static inline __attribute__((always_inline)) void CorrectNode(PSSolver *S, const
    the step's box.  Each node alone; a row inside the domain takes the
    boundary conditions at its ends alone (PSNodeBCDim leaves the others: its
    test per node was 0.6% of the quadrants' instructions), and musl's dv
-   only in a scene with markers (it is their G2P's; without them the next
-   step's grid reset zeroes it unread) */
+   only in a scene with markers or contact (it is the markers' G2P's, and
+   contact's; without them the next step's grid reset zeroes it unread) */
 static inline void CorrectNodes(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscBool musl, const PetscInt lo[3], const PetscInt hi[3], PetscInt j0, PetscInt j1, PetscInt k0, PetscInt k1)
 {
   const PetscInt  dof = PSGridDof(S);
