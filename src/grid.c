@@ -143,9 +143,8 @@ static inline void GridUpdateMUSLDim(const PSSolver *S, const PSIndex *ix, Petsc
   Clip(S->zbox, ix->os, ix->om, lo, hi);
   for (c = lo[2]; c < hi[2]; c++)
     for (b = lo[1]; b < hi[1]; b++) {
-      const PetscBool inside = b - pad > 0 && b - pad < S->nc[1] && (dim < 3 || (c - pad > 0 && c - pad < S->nc[2]));
-      const PetscInt  xa = inside ? PetscMin(PetscMax(lo[0], 1 + pad), hi[0]) : hi[0], xb = inside ? PetscMax(PetscMin(hi[0], S->nc[0] + pad), xa) : hi[0]; /* (the nodes [xa, xb) inside along x too) */
-      PetscInt        ip[3] = {0, b - pad, dim == 3 ? c - pad : 0};
+      PetscInt xa, xb, ip[3] = {0, b - pad, dim == 3 ? c - pad : 0};
+      PSNodeRowInside(S, dim, lo[0], hi[0], b, c, &xa, &xb);
       for (a = lo[0]; a < xa; a++) {
         ip[0] = a - pad;
         GridUpdateMUSLNode(S, dt, &g[dof * Lidx(ix, a, b, c)], dim, dof, PETSC_TRUE, ip);

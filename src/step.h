@@ -96,17 +96,26 @@ static inline void PSNodeBCDim(const PSSolver *S, const PetscInt dim, const Pets
   }
 }
 
+/* the nodes [xa, xb) of [x0, x1) in the row (j, k) (padded indices) that lie
+   inside the domain, on none of its faces: PSNodeBCDim leaves them as they
+   are.  None (xa = xb = x1) where the row itself is on a face across x */
+static inline void PSNodeRowInside(const PSSolver *S, const PetscInt dim, PetscInt x0, PetscInt x1, PetscInt j, PetscInt k, PetscInt *xa, PetscInt *xb)
+{
+  const PetscBool inside = j - PS_PAD > 0 && j - PS_PAD < S->nc[1] && (dim < 3 || (k - PS_PAD > 0 && k - PS_PAD < S->nc[2]));
+  *xa = inside ? PetscMin(PetscMax(x0, 1 + PS_PAD), x1) : x1;
+  *xb = inside ? PetscMax(PetscMin(x1, S->nc[0] + PS_PAD), *xa) : x1;
+}
+
 /* PSNodeBCDim on the nodes [x0, x1) of the row (j, k) of the local node
-   arrays (padded indices; node x's dim values at v[dim (orow + x)]): every
-   node of a row on a face of the domain across x or in the padding beyond
-   it, else only the nodes at or beyond x's faces (PSNodeBCDim leaves the
-   others), so a row's loop without it can run in SIMD lanes */
+   arrays (padded indices; node x's dim values at v[dim (orow + x)]), but for
+   those it leaves as they are (PSNodeRowInside), so a row's loop without it
+   can run in SIMD lanes */
 static inline void PSNodeBCRow(const PSSolver *S, const PetscInt dim, PetscInt orow, PetscInt x0, PetscInt x1, PetscInt j, PetscInt k, PetscReal *v)
 {
-  const PetscBool face = !(j - PS_PAD > 0 && j - PS_PAD < S->nc[1] && (dim < 3 || (k - PS_PAD > 0 && k - PS_PAD < S->nc[2])));
-  PetscInt        x;
+  PetscInt xa, xb, x;
+  PSNodeRowInside(S, dim, x0, x1, j, k, &xa, &xb);
   for (x = x0; x < x1; x++) {
-    if (!face && x - PS_PAD > 0 && x - PS_PAD < S->nc[0]) x = PetscMax(x, S->nc[0] + PS_PAD); /* (to x's upper face) */
+    if (x == xa) x = xb; /* (past the inside ones) */
     if (x < x1) {
       const PetscInt ip[3] = {x - PS_PAD, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
       PSNodeBCDim(S, dim, ip, &v[dim * (orow + x)]);

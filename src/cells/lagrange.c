@@ -689,15 +689,21 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
   }
 }
 
-/* a lane cell's values that the predictor's loop stores (lane l, slot n,
-   ghosted index ci): its material's p_k^h (its deviator's none: 0) and q^h
-   into the cell's half-step slot hs */
-static inline void PredictLaneCell(const PSCells *C, PetscInt n, PetscInt ci, PetscInt hmat, const PetscReal *W, PetscInt nw, PetscInt l, PetscReal *hs)
+/* a lane cell's p_k^h into its material's slot (lane l, slot n, ghosted
+   index ci; its deviator's none: 0) */
+static inline void PredictLanePk(const PSCells *C, PetscInt n, PetscInt ci, PetscInt hmat, const PetscReal *W, PetscInt nw, PetscInt l)
 {
   PetscReal *pk = &PSCellsHM(C, n, hmat)[C->sole[ci] * hmat];
   PetscInt   e;
   for (e = 1; e < hmat; e++) pk[e] = 0.0;
   pk[0] = W[PS_PL_PK * nw + l];
+}
+
+/* a lane cell's values that the predictor's loop stores: its p_k^h
+   (PredictLanePk) and q^h into the cell's half-step slot hs */
+static inline void PredictLaneCell(const PSCells *C, PetscInt n, PetscInt ci, PetscInt hmat, const PetscReal *W, PetscInt nw, PetscInt l, PetscReal *hs)
+{
+  PredictLanePk(C, n, ci, hmat, W, nw, l);
   hs[0] = W[PS_PL_QH * nw + l];
 }
 
@@ -781,9 +787,8 @@ static inline void CorrectNodes(PSSolver *S, const PSIndex *ix, PetscReal dt, co
 
   for (k = k0; k < k1; k++)
     for (j = j0; j < j1; j++) {
-      const PetscBool inside = j - PS_PAD > 0 && j - PS_PAD < S->nc[1] && (dim < 3 || (k - PS_PAD > 0 && k - PS_PAD < S->nc[2]));
-      const PetscInt  xa = inside ? PetscMin(PetscMax(lo[0], 1 + PS_PAD), hi[0]) : hi[0], xb = inside ? PetscMax(PetscMin(hi[0], S->nc[0] + PS_PAD), xa) : hi[0]; /* (the nodes [xa, xb) inside along x too) */
-      PetscInt        ip[3] = {0, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
+      PetscInt xa, xb, ip[3] = {0, j - PS_PAD, dim == 3 ? k - PS_PAD : 0};
+      PSNodeRowInside(S, dim, lo[0], hi[0], j, k, &xa, &xb);
       for (i = lo[0]; i < xa; i++) {
         ip[0] = i - PS_PAD;
         CorrectNode(S, dim, dof, dt, PETSC_TRUE, dv, ip, Lidx(ix, i, j, k));
@@ -875,11 +880,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           PetscInt       l1 = l + 1, x;
           l1 = PSLanesFlagRun(&W[PS_PL_FLAG * nw], l1, PetscMin(xb, C->ce[0]) - C->xs[0]); /* (xb may lie beyond the row's cells) */
           {
-            /* PredictLaneCell's p_k^h (q^h below) into each cell's slot of its
-               material, eco[n] + sole: where the run's slots follow one
+            /* each cell's p_k^h (q^h below) into the slot of its material,
+               eco[n] + sole (PSCellsHM): where the run's slots follow one
                another (cells of one gas: one slot each, in order; checked in
                SIMD lanes) and hold p alone (no strength), a loop of stores
-               in SIMD lanes; else one by one */
+               in SIMD lanes; else one by one (PredictLanePk) */
             const PetscInt *eco = &C->eco[n - l];
             const short    *so  = &C->sole[ci - l];
             const PetscInt  z0  = eco[l] + so[l];
@@ -890,11 +895,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
               const PetscReal *Wp = &W[PS_PL_PK * nw];
               for (x = l; x < l1; x++) pk[x] = Wp[x];
             } else
-              for (x = l; x < l1; x++) {
-                PetscReal *pk = &C->hm[hmat * (eco[x] + so[x])];
-                for (e = 1; e < hmat; e++) pk[e] = 0.0;
-                pk[0] = W[PS_PL_PK * nw + x];
-              }
+              for (x = l; x < l1; x++) PredictLanePk(C, n + x - l, ci + x - l, hmat, W, nw, x);
           }
           {
             /* each cell's q^h and hourglass rates into its slot, side by side:

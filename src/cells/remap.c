@@ -976,6 +976,18 @@ static inline void CellUpdateLanes(PSSolver *S, PetscInt s, PetscInt u0, PetscIn
       }
 }
 
+/* whether any of the sixteen cells q0 .. q0 + 15 of a run (so: their C->sole)
+   does not hold gas s alone or has a face (Rl, Rh: the ranges of their lower
+   and upper faces) that does not carry s alone: a loop without an exit
+   inside, not unrolled, which GCC runs in SIMD lanes (CellRun) */
+static inline PetscBool RunBreaks16(const short *so, const PetscInt *Rl, const PetscInt *Rh, PetscInt s, PetscInt q0)
+{
+  PetscInt diff = 0, q;
+#pragma GCC unroll 1
+  for (q = q0; q < q0 + 16; q++) diff |= ((PetscInt)so[q] ^ s) | (Rl[2 * q] ^ s) | (Rl[2 * q + 1] ^ (s + 1)) | (Rh[2 * q] ^ s) | (Rh[2 * q + 1] ^ (s + 1));
+  return diff ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* the cells j0 + k e_x, k < n (a run along x), between their faces' fluxes
    Fl[k] (lower) and Fh[k] (upper; planes ft apart): each one's dual flux, then its
    update if it is owned (the order of the slices' loop).  A cell inside the
@@ -1048,19 +1060,9 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
       const short   *so   = &C->sole[u0];
       const PetscInt bmax = d == 0 ? (j0[0] + k > 0 ? PetscMin(n, C->nc[0] - 1 - j0[0]) : k) : (innerd ? n : k);
       PetscInt       b    = k;
-      PetscInt       diff, q;
-      for (; b + 16 <= bmax; b += 16) {
-        diff = 0;
-#pragma GCC unroll 1
-        for (q = b; q < b + 16; q++) diff |= ((PetscInt)so[q] ^ s) | (Rl[2 * q] ^ s) | (Rl[2 * q + 1] ^ (s + 1)) | (Rh[2 * q] ^ s) | (Rh[2 * q + 1] ^ (s + 1));
-        if (diff) break;
-      }
-      if (b < bmax && b + 16 > bmax && bmax - 16 >= k) { /* (the last sixteen at once, as PSCellsSoleRun) */
-        diff = 0;
-#pragma GCC unroll 1
-        for (q = bmax - 16; q < bmax; q++) diff |= ((PetscInt)so[q] ^ s) | (Rl[2 * q] ^ s) | (Rl[2 * q + 1] ^ (s + 1)) | (Rh[2 * q] ^ s) | (Rh[2 * q + 1] ^ (s + 1));
-        if (!diff) b = bmax;
-      }
+      for (; b + 16 <= bmax; b += 16)
+        if (RunBreaks16(so, Rl, Rh, s, b)) break;
+      if (b < bmax && b + 16 > bmax && bmax - 16 >= k && !RunBreaks16(so, Rl, Rh, s, bmax - 16)) b = bmax; /* (the last sixteen at once, as PSCellsSoleRun) */
       while (b < bmax && so[b] == s && Rl[2 * b] == s && Rl[2 * b + 1] == s + 1 && Rh[2 * b] == s && Rh[2 * b + 1] == s + 1) b++;
       if (b - k >= PS_LANES_RUN) {
         CellUpdateLanes(S, s, u0, k, b, Fl, Fh, ft, W);
