@@ -1120,7 +1120,7 @@ static inline void KEBounds(const PetscInt dim, PetscInt sd, PetscInt o, PetscBo
 
 /* one sweep along d; dim a constant where it is called (Sweep picks 2D or
    3D), so the loops over a face's corners and a node's components unroll */
-static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, const PetscInt dim)
+static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, PetscBool first, PetscBool last, const PetscInt dim)
 {
   PSCells        *C = S->cells;
   const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
@@ -1150,23 +1150,35 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   PetscCall(FractionsSetup(C, fr));
   /* nodal momentum: each cell's mid-plane dual flux from its lower to its
      upper corner nodes, added into P; free faces let the nodes' share out.
-     Velocities (VL) and kinetic energies (K) before the sweep, over every
-     local node (VL is kept through the sweep: the KE fix below takes the
-     bounds of the remapped velocity from it); VL in dim planes of the
-     nodes (component q of node e at VL[q nnl + e]), so a run of cells or
-     nodes loads its velocities in SIMD lanes (DualFluxLanes, KEBounds) */
+     Velocities (VL) before the sweep, over every local node (VL is kept
+     through the sweep: the KE fix below takes the bounds of the remapped
+     velocity from it); VL in dim planes of the nodes (component q of node e
+     at VL[q nnl + e]), so a run of cells or nodes loads its velocities in
+     SIMD lanes (DualFluxLanes, KEBounds).  The kinetic energies (K) before
+     the remap, in the first sweep only: the same fluxes carry them through
+     every sweep, and the KE fix compares them with the remapped momentum's
+     once, after the last (below) */
   {
     const PetscReal *mcn = C->mcn;
+    if (first) {
 #pragma GCC ivdep
-    for (e = 0; e < nv; e++) {
-      const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
-      PetscReal       p2 = 0.0;
+      for (e = 0; e < nv; e++) {
+        const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
+        PetscReal       p2 = 0.0;
 #pragma GCC unroll 3
-      for (q = 0; q < dim; q++) {
-        VL[q * nv + e] = P[dim * e + q] * im;
-        p2 += P[dim * e + q] * P[dim * e + q];
+        for (q = 0; q < dim; q++) {
+          VL[q * nv + e] = P[dim * e + q] * im;
+          p2 += P[dim * e + q] * P[dim * e + q];
+        }
+        K[e] = 0.5 * p2 * im;
       }
-      K[e] = 0.5 * p2 * im;
+    } else {
+#pragma GCC ivdep
+      for (e = 0; e < nv; e++) {
+        const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
+#pragma GCC unroll 3
+        for (q = 0; q < dim; q++) VL[q * nv + e] = P[dim * e + q] * im;
+      }
     }
   }
   PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
@@ -1259,10 +1271,14 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      the sweep (VL, with the masses before it, mco: a node the sweep nearly
      empties divides a remainder of round-off size by a mass of round-off
      size; and without mass no momentum), what is cut booked as lost; then
-     the boundary conditions (a wall takes the momentum into it).  With it,
-     the kinetic energy carried minus that of the remapped momentum, d_i per
-     owned node, into K (its own node's value is read first), as
-     d_i / (2^dim m_i), for the cells below */
+     the boundary conditions (a wall takes the momentum into it).  After the
+     last sweep, with it, the kinetic energy carried through the remap's
+     sweeps minus that of the remapped momentum, d_i per owned node, into K
+     (its own node's value is read first), as d_i / (2^dim m_i), for the
+     cells below.  (Once a step, not once a sweep: the sum over the sweeps
+     of each one's d_i is this d_i, as each sweep's kinetic energy before it
+     is the one after the sweep before; the heat is then not carried by the
+     later sweeps, and the cells' ghosts need no exchange between sweeps) */
   {
     const PetscReal *mcn = C->mcn, *mco = C->mco, mass_min = S->mass_min;
     const PetscInt   x0 = ix->os[0], x1 = ix->os[0] + ix->om[0];
@@ -1291,24 +1307,25 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
           for (q = 0; q < dim; q++) lost[q] += dP[dim * (x - x0) + q];
         PSNodeBCRow(S, dim, orow, x0, x1, i[1], i[2], P); /* the boundary conditions */
         /* d_i / (2^dim m_i), over the row */
-        for (x = x0; x < x1; x++) {
-          const PetscInt  o  = orow + x;
-          const PetscReal mn = mcn[o], mv = mn > 0.0 ? mn : 1.0; /* (a divisor for every node: the row's loop without a branch) */
-          PetscReal       p2 = 0.0;
-          for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
-          const PetscReal dk = (K[o] - 0.5 * p2 / mv) / ((1 << dim) * mv);
-          K[o]               = mn > 0.0 ? dk : 0.0;
-        }
+        if (last)
+          for (x = x0; x < x1; x++) {
+            const PetscInt  o  = orow + x;
+            const PetscReal mn = mcn[o], mv = mn > 0.0 ? mn : 1.0; /* (a divisor for every node: the row's loop without a branch) */
+            PetscReal       p2 = 0.0;
+            for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
+            const PetscReal dk = (K[o] - 0.5 * p2 / mv) / ((1 << dim) * mv);
+            K[o]               = mn > 0.0 ? dk : 0.0;
+          }
       }
     for (q = 0; q < 3; q++) S->lost_local.p[q] = lost[q];
   }
   PetscCall(PSHaloBcast(C->sfp, C->P));
-  /* d_i to the ghosts; then each owned cell takes from each corner the share
-     M_c / (2^dim m_i) of d_i, the share it has in the node's mass (the sum
-     over cells is the sum over nodes), and each of its materials the share
-     M_k / M_c of that */
-  PetscCall(PSHaloBcast(C->sfk, K));
-  {
+  /* after the last sweep, d_i to the ghosts; then each owned cell takes from
+     each corner the share M_c / (2^dim m_i) of d_i, the share it has in the
+     node's mass (the sum over cells is the sum over nodes), and each of its
+     materials the share M_k / M_c of that */
+  if (last) {
+    PetscCall(PSHaloBcast(C->sfk, K));
     const PetscReal *Mcell = C->Mcell; /* after the sweep (PSCellsNodalMass above) */
     const short     *sole  = C->sole;
     PetscReal       *U = C->u, heat = C->remap_heat; /* (the same sum, in a register) */
@@ -1361,11 +1378,11 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d)
+static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, PetscBool first, PetscBool last)
 {
   PetscFunctionBeginUser;
-  if (S->dim == 2) PetscCall(SweepDim(S, ix, fr, dt, d, 2));
-  else PetscCall(SweepDim(S, ix, fr, dt, d, 3));
+  if (S->dim == 2) PetscCall(SweepDim(S, ix, fr, dt, d, first, last, 2));
+  else PetscCall(SweepDim(S, ix, fr, dt, d, first, last, 3));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1391,17 +1408,15 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
   PetscCall(PSHaloBcast(C->sfp, C->P));
   for (s = 0; s < S->dim; s++) {
     d = C->sweep0 == 0 ? s : S->dim - 1 - s;
-    /* the ghosts take the previous sweep's heat (its kinetic-energy fix comes
-       after that sweep's exchange): a face between two ranks is fluxed by both,
-       each from its own copy of the donor, and a donor without its heat on one
-       side made energy on two ranks (2e-6 of a blast's total, every other step
-       once it reached the ranks' boundary, whichever sweep came second) */
-    if (s > 0) PetscCall(PSCellsExchange(C));
-    PetscCall(Sweep(S, ix, &fr, dt, d));
+    /* (a sweep ends with its cells' exchange; the heat of the KE fix, which
+       would change the owned cells after it, comes after the last sweep
+       alone: a face between two ranks is fluxed by both, each from its own
+       copy of the donor, so the copies must agree) */
+    PetscCall(Sweep(S, ix, &fr, dt, d, s == 0 ? PETSC_TRUE : PETSC_FALSE, s == S->dim - 1 ? PETSC_TRUE : PETSC_FALSE));
   }
   C->sweep0 = 1 - C->sweep0;
   C->sA = fr.A;
-  PetscCall(PSCellsExchange(C)); /* the heat of the last sweep */
+  PetscCall(PSCellsExchange(C)); /* the heat of the KE fix */
   PetscCall(PetscLogEventEnd(EV_Remap, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
