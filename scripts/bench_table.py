@@ -66,6 +66,9 @@ def main():
     for n in (256, 512):
         row(f"cells, quadrants {n}^2, 1 rank", f"cells_quadrants_{n}_1", f"pyclaw_{n}", "PyClaw 1 core, same run, best of 4 around it", 2.0)
         row(f"cells, quadrants {n}^2, 2 ranks (per core)", f"cells_quadrants_{n}_2", f"cells_quadrants_{n}_1", "1 rank, same run: efficiency", 0.85)
+        # one gas in uniform flow, in the same bracket (no goal of its own: the
+        # goal is the quadrants'; this says what their four materials cost)
+        row(f"cells, one gas in uniform flow {n}^2, 1 rank", f"cells_pure_{n}_1", f"pyclaw_{n}", "PyClaw's quadrants 1 core, same run, best of 4 around it")
     # the in-cache rate (128^2: the arrays, about 10 MB, sit in the caches), the ceiling of any reordering of the passes
     row("cells, quadrants 128^2 (in cache), 1 rank", "cells_quadrants_128_1", "pyclaw_256", "PyClaw 256^2 1 core, same run, best of 4")
     row("cells, quadrants 512^2 against 128^2 (in cache), 1 rank", "cells_quadrants_512_1", "cells_quadrants_128_1", "128^2, same run: what the caches cost")
