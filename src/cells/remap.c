@@ -1160,25 +1160,16 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
      once, after the last (below) */
   {
     const PetscReal *mcn = C->mcn;
-    if (first) {
 #pragma GCC ivdep
-      for (e = 0; e < nv; e++) {
-        const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
-        PetscReal       p2 = 0.0;
+    for (e = 0; e < nv; e++) {
+      const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
+      PetscReal       p2 = 0.0;
 #pragma GCC unroll 3
-        for (q = 0; q < dim; q++) {
-          VL[q * nv + e] = P[dim * e + q] * im;
-          p2 += P[dim * e + q] * P[dim * e + q];
-        }
-        K[e] = 0.5 * p2 * im;
+      for (q = 0; q < dim; q++) {
+        VL[q * nv + e] = P[dim * e + q] * im;
+        p2 += P[dim * e + q] * P[dim * e + q];
       }
-    } else {
-#pragma GCC ivdep
-      for (e = 0; e < nv; e++) {
-        const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
-#pragma GCC unroll 3
-        for (q = 0; q < dim; q++) VL[q * nv + e] = P[dim * e + q] * im;
-      }
+      if (first) K[e] = 0.5 * p2 * im; /* (a test of the loop's invariant: GCC makes two loops of it) */
     }
   }
   PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
