@@ -66,16 +66,33 @@ static inline PetscReal VanLeerLanes(PetscReal a, PetscReal b)
    Youngs' stencil reads one plane.  Void's, the last, is 1 everywhere and
    not stored (np - 1 planes); nor is the markers', the first, in a scene
    without them (0 everywhere; its plane is left unwritten).  Built a unit
-   (row in 2D, plane in 3D) at a time during the sweep (FractionsUpTo). */
+   (row in 2D, plane in 3D) at a time during the sweep (FractionsUpTo), into
+   a ring of PS_FR_RING units: a sweep reads the units of its faces' donors
+   and their neighbours, four at most (the faces of slice s read the donors
+   of slices s - 1 and s, and Youngs' stencils one unit either side), so the
+   planes stay in the caches where a box's were written to memory and read
+   back (the 512^2 quadrants: 8 MiB a sweep).  Unit u takes slot u mod R,
+   and slots 0 and 1 are written again after the ring's end (slots R, R + 1),
+   so the three units around any unit are in consecutive slots: unit u's
+   stencil is centred on slot R when u mod R is 0 (FractionsSlot). */
+#define PS_FR_RING 8
 typedef struct {
   PetscInt   np;            /* participants: markers, nmat materials, void */
-  PetscInt   n[3], s[3];    /* box sizes and strides (doubles) */
-  PetscInt   ps;            /* the planes' stride: the cells in the box */
+  PetscInt   n[3], s[3];    /* box sizes and strides (doubles) within a plane of the ring; s[dim - 1], the unit's */
+  PetscInt   ps;            /* the planes' stride: the cells in the ring's PS_FR_RING + 2 units */
   PetscBool  mk;            /* the markers' plane A_0 is stored (a scene with markers; without, A_0 is 0: their share PS_CX_AM is 0 in every cell) */
   PetscInt   o[3];          /* global cell index of the box's first cell */
   PetscReal *A;             /* np planes of cumulative fractions */
   PetscInt   built;         /* the box's units (rows along y in 2D, planes along z in 3D) [0, built) are built (FractionsUpTo) */
 } PSFractions;
+
+/* the ring's slot that holds the box's unit u as the middle of three
+   consecutive slots (u - 1, u, u + 1): u mod R, or its copy at R */
+static inline PetscInt FractionsSlot(PetscInt u)
+{
+  const PetscInt r = u % PS_FR_RING;
+  return r == 0 ? PS_FR_RING : r;
+}
 
 /* FractionsUnits's values for a run of len cells c0 + x of one gas s (a
    block of V, M, E), each alone with mass in its cell, inside the box's row
@@ -113,27 +130,27 @@ static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt le
   }
 }
 
-/* the box's sizes and strides, its planes and the per-cell planes (sS, sP,
-   sM) allocated on first use; no unit built yet (FractionsUpTo builds them) */
+/* the box's sizes and strides, the ring's planes and the per-cell planes
+   (sS, sP, sM) allocated on first use; no unit built yet (FractionsUpTo
+   builds them) */
 static PetscErrorCode FractionsSetup(PSCells *C, PSFractions *fr)
 {
   const PetscInt dim = C->dim, nm = C->nmat, ms = C->ms;
-  PetscInt       e, ntot = 1;
+  PetscInt       e;
 
   PetscFunctionBeginUser;
   fr->np = nm + 2;
   for (e = 0; e < 3; e++) {
     fr->n[e] = e < dim ? C->gm[e] + 2 : 1;
     fr->o[e] = e < dim ? C->gs[e] - 1 : 0;
-    ntot *= fr->n[e];
   }
   fr->s[0]  = 1;
   fr->s[1]  = fr->n[0];
   fr->s[2]  = fr->n[0] * fr->n[1];
-  fr->ps    = ntot;
+  fr->ps    = (PS_FR_RING + 2) * fr->s[dim - 1];
   fr->mk    = C->markers;
   fr->built = 0;
-  if (!fr->A) PetscCall(PetscMalloc1(ntot * (fr->np - 1), &fr->A)); /* (void's A, 1 everywhere, is not stored: SlabVolumes) */
+  if (!fr->A) PetscCall(PetscMalloc1(fr->ps * (fr->np - 1), &fr->A)); /* (void's A, 1 everywhere, is not stored: SlabVolumes) */
   if (!C->sS) PetscCall(PetscCalloc3(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -156,13 +173,15 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
 
   for (u = u0; u < u1; u++) {
     const PetscInt k = dim == 3 ? u : 0, j0 = dim == 3 ? 0 : u, j1 = dim == 3 ? n[1] : u + 1; /* (the unit's plane k, its rows [j0, j1)) */
+    const PetscInt slot = u % PS_FR_RING;                                                        /* (the unit's slot in the ring) */
     for (j = j0; j < j1; j++) {
       /* the nearest cell of the ghosted box: its row's, then along x */
       const PetscInt cr = PetscMin(PetscMax(j + o[1], gs[1]), gl[1]) * cst1 + (dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0) * cst2 - coff;
+      PetscReal     *ar = &A[slot * s[e] + (dim == 3 ? j * s[1] : 0)]; /* (the row's first cell in the ring) */
       for (i = 0; i < n[0]; i++) {
         const PetscInt   ci = cr + PetscMin(PetscMax(i + o[0], gs[0]), gl[0]), sole = Sole[ci]; /* PSCellIdx */
         const PetscReal *uc = &U[ms * ci], V = XV[ci];
-        PetscReal       *a = &A[i * s[0] + j * s[1] + k * s[2]], acc;
+        PetscReal       *a = &ar[i * s[0]], acc;
         PetscInt         m0, m1, b;
         /* a run of a gas's cells inside the ghosted row (not its copies
            outside): FractionsRun, the same values in SIMD lanes */
@@ -212,6 +231,14 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
         }
       }
     }
+    /* slots 0 and 1 again after the ring's end (FractionsSlot): the stored
+       planes (the markers' with them) */
+    if (slot < 2)
+      for (m = mk ? 0 : 1; m < fr->np - 1; m++) {
+        const PetscReal *from = &A[m * ps + slot * s[e]];
+        PetscReal       *to   = &A[m * ps + (PS_FR_RING + slot) * s[e]];
+        for (i = 0; i < s[e]; i++) to[i] = from[i];
+      }
     /* none on the ghosted array's two faces along d (their neighbours along
        d are not in it): those of the ghosted unit this unit copies, each
        time it is written (the last of its two writers, the unit beyond the
@@ -384,7 +411,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   uc = PSCellIdx(C, c[0], c[1], c[2]);
   ud = &C->u[ms * uc];
   Vd = *PSCellsX(C, uc, PS_CX_V);
-  fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (c[1] - fr->o[1]) * fr->s[1] + (dim == 3 ? (c[2] - fr->o[2]) * fr->s[2] : 0)];
+  fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (dim == 3 ? (c[1] - fr->o[1]) * fr->s[1] + FractionsSlot(c[2] - fr->o[2]) * fr->s[2] : FractionsSlot(c[1] - fr->o[1]) * fr->s[1])]; /* (the ring's slot of its unit) */
   w  = PetscMin(PetscAbsReal(delta) * A / Vd, 1.0); /* the slab's share of the donor */
   /* the materials in the slab.  A donor whose one material with mass fills
      it (no markers, no void above round-off: the others hold no volume) gives
