@@ -67,44 +67,57 @@ static inline PetscReal VanLeerLanes(PetscReal a, PetscReal b)
    not stored (np - 1 planes); nor is the markers', the first, in a scene
    without them (0 everywhere; its plane is left unwritten).  Built a unit
    (row in 2D, plane in 3D) at a time during the sweep (FractionsUpTo), into
-   a ring of PS_FR_RING units: a sweep reads the units of its faces' donors
-   and their neighbours, four at most (the faces of slice s read the donors
-   of slices s - 1 and s, and Youngs' stencils one unit either side), so the
-   planes stay in the caches where a box's were written to memory and read
-   back (the 512^2 quadrants: 8 MiB a sweep).  Unit u takes slot u mod R,
-   and slots 0 and 1 are written again after the ring's end (slots R, R + 1),
-   so the three units around any unit are in consecutive slots: unit u's
-   stencil is centred on slot R when u mod R is 0 (FractionsSlot). */
-#define PS_FR_RING 8
+   a ring of units (RingSlot), as are the per-cell values the faces read
+   (C->sS, sP, sM). */
 typedef struct {
   PetscInt   np;            /* participants: markers, nmat materials, void */
   PetscInt   n[3], s[3];    /* box sizes and strides (doubles) within a plane of the ring; s[dim - 1], the unit's */
-  PetscInt   ps;            /* the planes' stride: the cells in the ring's PS_FR_RING + 2 units */
+  PetscInt   ps;            /* the planes' stride: the cells in the ring's PS_RING + 3 units */
   PetscBool  mk;            /* the markers' plane A_0 is stored (a scene with markers; without, A_0 is 0: their share PS_CX_AM is 0 in every cell) */
   PetscInt   o[3];          /* global cell index of the box's first cell */
   PetscReal *A;             /* np planes of cumulative fractions */
   PetscInt   built;         /* the box's units (rows along y in 2D, planes along z in 3D) [0, built) are built (FractionsUpTo) */
 } PSFractions;
 
-/* the ring's slot that holds the box's unit u as the middle of three
-   consecutive slots (u - 1, u, u + 1): u mod R, or its copy at R */
-static inline PetscInt FractionsSlot(PetscInt u)
+/* The rings.  The fractions' planes and the per-cell values of the faces'
+   fast paths (C->sS, sP, sM) are kept for PS_RING units (rows in 2D, planes
+   in 3D), not for the whole box: a sweep reads the units of its faces'
+   donors and their neighbours, four at most (the faces of slice s read the
+   cells of slices s - 2 .. s + 1, and Youngs' stencils one unit either side
+   of a donor), and the builder runs one unit ahead (two at the box's end),
+   so the values stay in the caches where a box's were written to memory
+   and read back (the 512^2 quadrants: 16 MiB a sweep).  Unit u is written
+   to slot u mod R, and slots 0, 1 and 2 again after the ring's end (slots
+   R .. R + 2), so the units u - 2 .. u + 1 around any unit are in
+   consecutive slots, unit u's at RingSlot(u): the stencils' strides are the
+   box's.  (The fractions' box numbers its units from the one beyond the
+   ghosted cells, the per-cell values from the ghosted array's first) */
+#define PS_RING 8
+static inline PetscInt RingSlot(PetscInt u)
 {
-  const PetscInt r = u % PS_FR_RING;
-  return r == 0 ? PS_FR_RING : r;
+  const PetscInt r = u % PS_RING;
+  return r < 2 ? r + PS_RING : r;
+}
+
+/* the shift from the ghosted index of a cell of the ghosted array's unit
+   (row in 2D, plane in 3D) lu to its index in the per-cell values' ring */
+static inline PetscInt RingShift(const PSCells *C, PetscInt lu)
+{
+  return (RingSlot(lu) - lu) * C->cst[C->dim - 1];
 }
 
 /* FractionsUnits's values for a run of len cells c0 + x of one gas s (a
    block of V, M, E), each alone with mass in its cell, inside the box's row
    (a0: the first one's fraction A_0; planes ps apart): the divisions and
    tests in SIMD lanes, the values each material's plane takes into W's
-   first two planes (of length w), then the planes in lanes too */
-static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt len, PetscReal *a0, PetscInt ps, PetscBool mk, PetscInt w, PetscReal *W)
+   first two planes (of length w), then the planes in lanes too; the
+   per-cell values at c + ws in their ring */
+static inline void FractionsRun(PSCells *C, PetscInt s, PetscInt c0, PetscInt len, PetscReal *a0, PetscInt ps, PetscBool mk, PetscInt w, PetscReal *W, PetscInt ws)
 {
   const PetscInt   nm = C->nmat;
   const PetscReal  Vc = C->Vc, *blk = &C->u[PS_CQ * c0 + s * C->mst], *XV = C->ux + PS_CX_V * C->ncl, *XA = C->ux + PS_CX_AM * C->ncl;
   const PetscReal  sd = s;
-  PetscReal       *sS = C->sS, *sP = C->sP, *sM = C->sM;
+  PetscReal       *sS = C->sS + 2 * ws, *sP = C->sP + ws, *sM = C->sM + ws;
   PetscInt         x, m;
 
 #pragma GCC ivdep
@@ -147,17 +160,20 @@ static PetscErrorCode FractionsSetup(PSCells *C, PSFractions *fr)
   fr->s[0]  = 1;
   fr->s[1]  = fr->n[0];
   fr->s[2]  = fr->n[0] * fr->n[1];
-  fr->ps    = (PS_FR_RING + 2) * fr->s[dim - 1];
+  fr->ps    = (PS_RING + 3) * fr->s[dim - 1];
   fr->mk    = C->markers;
   fr->built = 0;
   if (!fr->A) PetscCall(PetscMalloc1(fr->ps * (fr->np - 1), &fr->A)); /* (void's A, 1 everywhere, is not stored: SlabVolumes) */
-  if (!C->sS) PetscCall(PetscCalloc3(C->ncl * (ms - 1), &C->sS, C->ncl, &C->sP, C->ncl, &C->sM)); /* (zeroed: the faces' lanes load the values of cells they do not use) */
+  if (!C->sS) { /* (zeroed: the faces' lanes load the values of cells they do not use) */
+    const PetscInt nr = (PS_RING + 3) * C->cst[dim - 1];
+    PetscCall(PetscCalloc3(nr * (ms - 1), &C->sS, nr, &C->sP, nr, &C->sM));
+  }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
 /* The box's units [u0, u1) (rows along y in 2D, planes along z in 3D): the
    cumulative fractions, and the per-cell values of the ghosted cells they
-   copy.  A unit reads the cells of its own unit alone (the nearest ghosted
+   copy, each into its ring (RingSlot).  A unit reads the cells of its own unit alone (the nearest ghosted
    one), so it is built before the sweep updates them (FractionsUpTo) */
 static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool lanes, PetscInt w, PetscReal *W, PetscInt u0, PetscInt u1)
 {
@@ -173,7 +189,9 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
 
   for (u = u0; u < u1; u++) {
     const PetscInt k = dim == 3 ? u : 0, j0 = dim == 3 ? 0 : u, j1 = dim == 3 ? n[1] : u + 1; /* (the unit's plane k, its rows [j0, j1)) */
-    const PetscInt slot = u % PS_FR_RING;                                                        /* (the unit's slot in the ring) */
+    const PetscInt slot = u % PS_RING;                                                           /* (the unit's slot in the fractions' ring) */
+    const PetscInt gu = PetscMin(PetscMax(u + o[e], gs[e]), gl[e]) - gs[e];                      /* (the ghosted unit it copies) */
+    const PetscInt ws = (gu % PS_RING - gu) * C->cst[e];                                         /* (its cells' shift into the per-cell values' ring) */
     for (j = j0; j < j1; j++) {
       /* the nearest cell of the ghosted box: its row's, then along x */
       const PetscInt cr = PetscMin(PetscMax(j + o[1], gs[1]), gl[1]) * cst1 + (dim == 3 ? PetscMin(PetscMax(k + o[2], gs[2]), gl[2]) : 0) * cst2 - coff;
@@ -188,7 +206,7 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
         if (lanes && sole >= 0 && i >= 1) {
           b = i + PSCellsSoleRun(&Sole[ci], n[0] - 1 - i);
           if (b - i >= PS_LANES_RUN) {
-            FractionsRun(C, sole, ci, b - i, a, ps, mk, w, W);
+            FractionsRun(C, sole, ci, b - i, a, ps, mk, w, W, ws);
             i = b - 1;
             continue;
           }
@@ -198,9 +216,9 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
            times a sweep (donor, and neighbour of each side's donor) */
         if (sole >= 0) {
           const PetscReal *blk = &uc[sole * mst];
-          PetscReal       *sp  = &sS[(ms - 1) * ci];
-          sp[0]  = blk[PS_CM] / blk[PS_CV];
-          sM[ci] = blk[PS_CM];
+          PetscReal       *sp  = &sS[(ms - 1) * (ci + ws)];
+          sp[0]       = blk[PS_CM] / blk[PS_CV];
+          sM[ci + ws] = blk[PS_CM];
           if (ms == PS_CQ) sp[1] = blk[PS_CE] / blk[PS_CM]; /* a gas's block: e alone, without the loop */
           else
             for (q = PS_CE; q < ms; q++) sp[q - PS_CE + 1] = blk[q] / blk[PS_CM];
@@ -220,9 +238,9 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
           const PetscReal a1 = PetscMin(acc, 1.0), a2 = PetscMin(acc + uc[sole * mst + PS_CV] * iV, 1.0);
           for (m = 0; m < sole; m++) a[(1 + m) * ps] = a1;
           for (; m < nm; m++) a[(1 + m) * ps] = a2; /* (a[nm] = a2) */
-          sP[ci] = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && uc[sole * mst + PS_CV] > 0.999 * V ? sole : -1;
+          sP[ci + ws] = acc <= 1e-12 && 1.0 - a2 <= 1e-12 && uc[sole * mst + PS_CV] > 0.999 * V ? sole : -1;
         } else {
-          sP[ci] = -1.0;
+          sP[ci + ws] = -1.0;
           PSCellsSoleRange(sole, nm, &m0, &m1);
           for (m = 0; m < nm; m++) {
             if (m >= m0 && m < m1) acc += uc[m * mst + PS_CV] * iV;
@@ -231,21 +249,12 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
         }
       }
     }
-    /* slots 0 and 1 again after the ring's end (FractionsSlot): the stored
-       planes (the markers' with them) */
-    if (slot < 2)
-      for (m = mk ? 0 : 1; m < fr->np - 1; m++) {
-        const PetscReal *from = &A[m * ps + slot * s[e]];
-        PetscReal       *to   = &A[m * ps + (PS_FR_RING + slot) * s[e]];
-        for (i = 0; i < s[e]; i++) to[i] = from[i];
-      }
     /* none on the ghosted array's two faces along d (their neighbours along
        d are not in it): those of the ghosted unit this unit copies, each
        time it is written (the last of its two writers, the unit beyond the
        ghosted ones, is built with it: FractionsUpTo) */
     {
-      const PetscInt gu = PetscMin(PetscMax(u + o[e], gs[e]), gl[e]) - gs[e];
-      PetscInt       l[3], lo[3] = {0, 0, 0}, hi[3] = {C->gm[0], C->gm[1], dim == 3 ? C->gm[2] : 1}, f;
+      PetscInt l[3], lo[3] = {0, 0, 0}, hi[3] = {C->gm[0], C->gm[1], dim == 3 ? C->gm[2] : 1}, f;
       lo[e] = gu;
       hi[e] = gu + 1;
       for (f = 0; f < 2; f++) {
@@ -254,8 +263,24 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
         hf[d] = PetscMin(hf[d], f ? C->gm[d] : 1);
         for (l[2] = lf[2]; l[2] < hf[2]; l[2]++)
           for (l[1] = lf[1]; l[1] < hf[1]; l[1]++)
-            for (l[0] = lf[0]; l[0] < hf[0]; l[0]++) sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2]] = -1.0;
+            for (l[0] = lf[0]; l[0] < hf[0]; l[0]++) sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2] + ws] = -1.0;
       }
+    }
+    /* the rings' slots 0, 1 and 2 again after their ends (RingSlot): the
+       fractions' stored planes (the markers' with them), the per-cell values */
+    if (slot < 3)
+      for (m = mk ? 0 : 1; m < fr->np - 1; m++) {
+        const PetscReal *from = &A[m * ps + slot * s[e]];
+        PetscReal       *to   = &A[m * ps + (PS_RING + slot) * s[e]];
+        for (i = 0; i < s[e]; i++) to[i] = from[i];
+      }
+    if (gu % PS_RING < 3) {
+      const PetscInt ce = C->cst[e], g0 = (gu % PS_RING) * ce, g1 = g0 + PS_RING * ce;
+      for (i = 0; i < ce; i++) {
+        sP[g1 + i] = sP[g0 + i];
+        sM[g1 + i] = sM[g0 + i];
+      }
+      for (i = 0; i < (ms - 1) * ce; i++) sS[(ms - 1) * g1 + i] = sS[(ms - 1) * g0 + i];
     }
   }
 }
@@ -389,7 +414,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   PetscReal        Vd;
   const PetscReal *fa;
   PetscReal        delta = 0.0, vol[PS_MAX_CELLMAT], w, side;
-  PetscInt         a, b, c[3], m, m0, m1, q, o0, uc, s;
+  PetscInt         a, b, c[3], m, m0, m1, q, o0, uc, s, rs;
 
   /* the face's displacement: the mean of its corners' velocities along d */
   o0 = Node(ix, dim, i);
@@ -411,7 +436,8 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
   uc = PSCellIdx(C, c[0], c[1], c[2]);
   ud = &C->u[ms * uc];
   Vd = *PSCellsX(C, uc, PS_CX_V);
-  fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (dim == 3 ? (c[1] - fr->o[1]) * fr->s[1] + FractionsSlot(c[2] - fr->o[2]) * fr->s[2] : FractionsSlot(c[1] - fr->o[1]) * fr->s[1])]; /* (the ring's slot of its unit) */
+  fa = &fr->A[(c[0] - fr->o[0]) * fr->s[0] + (dim == 3 ? (c[1] - fr->o[1]) * fr->s[1] + RingSlot(c[2] - fr->o[2]) * fr->s[2] : RingSlot(c[1] - fr->o[1]) * fr->s[1])]; /* (the ring's slot of its unit) */
+  rs = RingShift(C, i[dim - 1] - C->gs[dim - 1]); /* (the per-cell values of the donor and its neighbours, around the face's unit) */
   w  = PetscMin(PetscAbsReal(delta) * A / Vd, 1.0); /* the slab's share of the donor */
   /* the materials in the slab.  A donor whose one material with mass fills
      it (no markers, no void above round-off: the others hold no volume) gives
@@ -439,7 +465,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
     /* the density and per-unit-mass values of the donor and its
        neighbours: FractionsUnits's where the cell has m alone (the same
        divisions), else here */
-    spd = s == m ? &C->sS[(ms - 1) * uc] : NULL;
+    spd = s == m ? &C->sS[(ms - 1) * (uc + rs)] : NULL;
     rho = spd ? spd[0] : blk[PS_CM] / blk[PS_CV];
     /* van Leer slopes where the donor and its neighbours along d are pure in m */
     pure = blk[PS_CV] > 0.999 * Vd ? PETSC_TRUE : PETSC_FALSE;
@@ -451,7 +477,7 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
       }
       const PetscInt un = uc + (a ? sw->cd : -sw->cd);
       nb[a]  = &C->u[ms * un + mst * m];
-      spn[a] = C->sole[un] == m ? &C->sS[(ms - 1) * un] : NULL;
+      spn[a] = C->sole[un] == m ? &C->sS[(ms - 1) * (un + rs)] : NULL;
       if (nb[a][PS_CM] <= 0.0 || nb[a][PS_CV] <= 0.999 * *PSCellsX(C, un, PS_CX_V)) pure = PETSC_FALSE;
     }
     if (pure) {
@@ -482,7 +508,8 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
    above it, jd0 its index along d, jx 1 along x, else 0.  The same values,
    without a branch: both donors and their neighbours are loaded
    (FractionsUnits's planes: sP, the material that fills a cell; sM its mass;
-   sS its density and e), and chosen by the sign of the face's displacement;
+   sS its density and e; cell u's at u + rs in their ring), and chosen by
+   the sign of the face's displacement;
    a face that FaceRun's test would send elsewhere has the flag 0, and the
    values it leaves in s's records are not read (the face's range, R, says
    which materials it carries).  A face at rest (a gas at rest, or moving
@@ -493,9 +520,9 @@ static inline void FaceFlux(const PSSolver *S, const PSIndex *ix, const PSFracti
    which no cell's V, M or E holds, so every result is bitwise the same (a
    gas at rest ran 1.19-1.21x faster, twenty-eighth session).  Gas blocks
    only (ms = PS_CQ), on ghosted cells k - 2 cd .. k + cd */
-static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const PetscReal *v, PetscInt d, PetscInt s1, PetscInt s2, PetscInt o0, PetscInt u0, PetscInt jd0, PetscInt jx, PetscInt cd, PetscReal A, PetscReal hdt, PetscInt ka, PetscInt kb, PetscInt s, PetscReal *F, PetscInt ft, PetscReal *fl)
+static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const PetscReal *v, PetscInt d, PetscInt s1, PetscInt s2, PetscInt o0, PetscInt u0, PetscInt rs, PetscInt jd0, PetscInt jx, PetscInt cd, PetscReal A, PetscReal hdt, PetscInt ka, PetscInt kb, PetscInt s, PetscReal *F, PetscInt ft, PetscReal *fl)
 {
-  const PetscReal *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS, *sP = C->sP, *sM = C->sM;
+  const PetscReal *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS + 2 * rs, *sP = C->sP + rs, *sM = C->sM + rs; /* (the per-cell values' ring, at the ghosted indices) */
   const PetscInt   nm = C->nmat;
   const PetscReal  ncr = (PetscReal)C->nc[d], jd0r = (PetscReal)jd0, jxr = (PetscReal)jx;
   PetscReal       *FA = &F[nm * PS_CQ * ft], *FT = &F[(nm * PS_CQ + 1) * ft], *FV = &F[(s * PS_CQ + PS_CV) * ft], *FM = &F[(s * PS_CQ + PS_CM) * ft], *FE = &F[(s * PS_CQ + PS_CE) * ft];
@@ -539,12 +566,12 @@ static inline void FaceRunLanes(const PSCells *C, const PetscInt dim, const Pets
    (FaceFlux spent about 220 instructions on such a face, most of them on
    indices and tests); any other face (a mixed, partial or boundary donor)
    takes FaceFlux itself, which gives such a face the same values */
-static inline __attribute__((always_inline)) void FaceOne(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt o0, PetscInt u0, PetscInt k, PetscReal *F, PetscInt ft, PetscInt *R)
+static inline __attribute__((always_inline)) void FaceOne(const PSSolver *S, const PSIndex *ix, const PSFractions *fr, PetscReal dt, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt o0, PetscInt u0, PetscInt rs, PetscInt k, PetscReal *F, PetscInt ft, PetscInt *R)
 {
   const PSCells   *C = S->cells;
   const PetscInt   mst = C->mst, ms = C->ms, nm = C->nmat, d = sw->d, cd = sw->cd, sp = ms - 1, spcd = sp * cd, nc = C->nc[d];
-  const PetscReal  A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh, *fill = C->sP;
-  const PetscReal *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS;
+  const PetscReal  A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0), *v = C->vh, *fill = C->sP + rs; /* (the per-cell values' ring, at the ghosted indices) */
+  const PetscReal *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V), *sS = C->sS + sp * rs;
   const PetscInt   o = o0 + k;
   PetscReal        delta, *Fk = &F[k];
   PetscInt         cdn, uc, s, q;
@@ -605,7 +632,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
   const PSCells  *C = S->cells;
   const PetscInt  d = sw->d, cd = sw->cd;
   const PetscReal A = C->Vc / S->h[d], hdt = dt / (dim == 3 ? 4.0 : 2.0);
-  const PetscInt  o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]);
+  const PetscInt  o0 = Node(ix, dim, j0), u0 = PSCellIdx(C, j0[0], j0[1], j0[2]), rs = RingShift(C, j0[dim - 1] - C->gs[dim - 1]); /* (rs: the per-cell values' ring, around the run's unit) */
   const short    *sole = C->sole;
   PetscReal      *fl = C->sW; /* (the lanes' flags) */
   PetscInt        k, ka = 0, kb = 0;
@@ -626,7 +653,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
       PetscInt       e = k + PSCellsSoleRun(&sole[u0 + k], kb - k), x, nz = 0;
       if (d > 0) e = PetscMin(e, k + PSCellsSoleRun(&sole[u0 + k - cd], kb - k));
       if (e - k >= PS_LANES_RUN) {
-        FaceRunLanes(C, dim, C->vh, d, sw->s1, sw->s2, o0, u0, j0[d], d == 0 ? 1 : 0, cd, A, hdt, k, e, s, F, ft, fl);
+        FaceRunLanes(C, dim, C->vh, d, sw->s1, sw->s2, o0, u0, rs, j0[d], d == 0 ? 1 : 0, cd, A, hdt, k, e, s, F, ft, fl);
         for (x = k; x < e; x++) {
           R[2 * x]     = s;
           R[2 * x + 1] = s + 1;
@@ -650,7 +677,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
           }
           for (; x < xe; x++)
             if (fl[x] == 0.0) {
-              FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, x, F, ft, R);
+              FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, rs, x, F, ft, R);
               nz--;
             }
         }
@@ -658,7 +685,7 @@ static inline void FaceRun(const PSSolver *S, const PSIndex *ix, const PSFractio
         continue;
       }
     }
-    FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, k, F, ft, R);
+    FaceOne(S, ix, fr, dt, sw, dim, j0, o0, u0, rs, k, F, ft, R);
     k++;
   }
 }
