@@ -106,6 +106,15 @@ static inline PetscInt RingShift(const PSCells *C, PetscInt lu)
   return (RingSlot(lu) - lu) * C->cst[C->dim - 1];
 }
 
+/* a ring's slot (of len reals), just written, again after the ring's end
+   where it is one of the three that RingSlot's readers find there */
+static inline void RingRepeat(PetscReal *ring, PetscInt slot, PetscInt len)
+{
+  PetscInt i;
+  if (slot < 3)
+    for (i = 0; i < len; i++) ring[(PS_RING + slot) * len + i] = ring[slot * len + i];
+}
+
 /* FractionsUnits's values for a run of len cells c0 + x of one gas s (a
    block of V, M, E), each alone with mass in its cell, inside the box's row
    (a0: the first one's fraction A_0; planes ps apart): the divisions and
@@ -266,22 +275,12 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
             for (l[0] = lf[0]; l[0] < hf[0]; l[0]++) sP[l[0] + l[1] * C->cst[1] + l[2] * C->cst[2] + ws] = -1.0;
       }
     }
-    /* the rings' slots 0, 1 and 2 again after their ends (RingSlot): the
+    /* the rings' first slots again after their ends (RingRepeat): the
        fractions' stored planes (the markers' with them), the per-cell values */
-    if (slot < 3)
-      for (m = mk ? 0 : 1; m < fr->np - 1; m++) {
-        const PetscReal *from = &A[m * ps + slot * s[e]];
-        PetscReal       *to   = &A[m * ps + (PS_RING + slot) * s[e]];
-        for (i = 0; i < s[e]; i++) to[i] = from[i];
-      }
-    if (gu % PS_RING < 3) {
-      const PetscInt ce = C->cst[e], g0 = (gu % PS_RING) * ce, g1 = g0 + PS_RING * ce;
-      for (i = 0; i < ce; i++) {
-        sP[g1 + i] = sP[g0 + i];
-        sM[g1 + i] = sM[g0 + i];
-      }
-      for (i = 0; i < (ms - 1) * ce; i++) sS[(ms - 1) * g1 + i] = sS[(ms - 1) * g0 + i];
-    }
+    for (m = mk ? 0 : 1; m < fr->np - 1; m++) RingRepeat(&A[m * ps], slot, s[e]);
+    RingRepeat(sP, gu % PS_RING, C->cst[e]);
+    RingRepeat(sM, gu % PS_RING, C->cst[e]);
+    RingRepeat(sS, gu % PS_RING, (ms - 1) * C->cst[e]);
   }
 }
 
