@@ -198,6 +198,9 @@ static void FractionsUnits(PSCells *C, PSFractions *fr, PetscInt d, PetscBool la
 
   for (u = u0; u < u1; u++) {
     const PetscInt k = dim == 3 ? u : 0, j0 = dim == 3 ? 0 : u, j1 = dim == 3 ? n[1] : u + 1; /* (the unit's plane k, its rows [j0, j1)) */
+    /* (the builder writes a unit's plain slot, u mod PS_RING, where the
+       readers' RingSlot and RingShift map units 0 and 1 mod PS_RING to the
+       slots after the ring's end: RingRepeat below copies them there) */
     const PetscInt slot = u % PS_RING;                                                           /* (the unit's slot in the fractions' ring) */
     const PetscInt gu = PetscMin(PetscMax(u + o[e], gs[e]), gl[e]) - gs[e];                      /* (the ghosted unit it copies) */
     const PetscInt ws = (gu % PS_RING - gu) * C->cst[e];                                         /* (its cells' shift into the per-cell values' ring) */
