@@ -65,6 +65,12 @@ def main():
     # the Eulerian cells
     for n in (256, 512):
         row(f"cells, quadrants {n}^2, 1 rank", f"cells_quadrants_{n}_1", f"pyclaw_{n}", "PyClaw 1 core, same run, best of 4 around it", 2.0)
+        # the same ratio from runs taken in pairs (bench_pairs.py): their median
+        if f"cells_pairs_{n}" in b:
+            med, lo, hi, k = (b.get(f"cells_pairs{s}_{n}", 0.0) for s in ("", "_lo", "_hi", "_k"))
+            rows.append((f"cells, quadrants {n}^2, 1 rank, in pairs with PyClaw", f"{k:.0f} pairs",
+                         f"PyClaw 1 core right before each, same run: median of the ratios, range {lo:.2f}-{hi:.2f}",
+                         f"{med:.2f}", ">= 2", "yes" if med >= 2.0 else "no"))
         row(f"cells, quadrants {n}^2, 2 ranks (per core)", f"cells_quadrants_{n}_2", f"cells_quadrants_{n}_1", "1 rank, same run: efficiency", 0.85)
         # one gas in uniform flow, in the same bracket (no goal of its own: the
         # goal is the quadrants'; this says what their four materials cost)

@@ -1,0 +1,109 @@
+"""The quadrants' speed against PyClaw's, from runs taken in pairs (scripts/bench).
+
+    python scripts/bench_pairs.py [--sizes 256,512] [--pairs 4]
+
+For each size, --pairs times in turn: the peer (Clawpack PyClaw's
+quadrants, Fortran kernels, second order, dimensional splitting, to t = 0.2,
+1 core: scripts/peer_pyclaw), then plyshock (scripts/bench_cells.py, the
+quadrants, 1 rank, 100 steps at 256^2 and 40 at larger sizes after its 5
+steps of warm-up, as scripts/bench runs it); each side the best of two runs
+in one process (a single run of the peer is its process's first, about 9%
+slower at 256^2 here than its second, where plyshock's is warmed up); the
+ratio of plyshock's rate to the peer's in each pair, and their median.  The main rows of scripts/bench
+take each side's best of several runs minutes apart, so a disturbance of
+this VM that lasts through one side's runs moves the ratio (on the same
+code the thirty-fifth session's two bench runs read 1.68 and 1.91 at
+256^2, plyshock's rate 17% apart, the peer's 2.5%); the median of the pairs
+moves only when a disturbance lasts through half of them.
+
+Prints each pair and the median, and the lines
+    BENCH cells_pairs_<n> <median ratio>
+    BENCH cells_pairs_lo_<n> <lowest ratio>, BENCH cells_pairs_hi_<n> <highest>
+    BENCH cells_pairs_k_<n> <pairs>
+for scripts/bench_table.py.  Cell-updates per second per core; the ratios
+are plyshock's rate over PyClaw's.  Where the peer cannot run (its venv
+cannot be made), it says so and prints no BENCH line.
+"""
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PEER_ROW = r"\s*2D quadrants roe_split {n}x{n} t=\S+\s+\d+\s+\d+\s+\S+\s+\S+\s+\S+\.\.(\S+)"
+
+
+def sizes_arg(text):
+    try:
+        sizes = [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"a comma-separated list of grid sizes >= 16, got {text!r}")
+    if not sizes or min(sizes) < 16:
+        raise argparse.ArgumentTypeError(f"a comma-separated list of grid sizes >= 16, got {text!r}")
+    return sizes
+
+
+def pairs_arg(text):
+    try:
+        k = int(text)
+    except ValueError:
+        k = 0
+    if k < 1:
+        raise argparse.ArgumentTypeError(f"an integer >= 1, got {text!r}")
+    return k
+
+
+def run(cmd):
+    """stdout of cmd, run in the repository (its stderr passed through)."""
+    return subprocess.run(cmd, cwd=ROOT, stdout=subprocess.PIPE, text=True, check=False).stdout
+
+
+def peer_rate(n):
+    """PyClaw's rate (cell-updates/s) at n^2, the best of two runs in one process, or None where the peer did not run."""
+    out = run(["bash", "scripts/peer_pyclaw", "--variants", "roe_split", "--sizes2d", str(n), "--sizes1d", "", "--reps", "2", "--tfinal2d", "0.2"])
+    for line in out.splitlines():
+        m = re.match(PEER_ROW.format(n=n), line)
+        if m:
+            return float(m.group(1)) * 1e6
+    print("\n".join(line for line in out.splitlines() if "peer_pyclaw" in line) or f"bench_pairs.py: no PyClaw row for {n}^2 in the peer's output")
+    return None
+
+
+def plyshock_rate(n):
+    """plyshock's rate (cell-updates/s per core) for the quadrants at n^2 on 1 rank, the best of two runs in one process."""
+    steps = 100 if n <= 256 else 40
+    out = run(["mpiexec", "-n", "1", os.path.join(ROOT, ".venv", "bin", "python"), "scripts/bench_cells.py",
+               "-bench_n", str(n), "-bench_steps", str(steps), "-bench_reps", "2"])
+    m = re.search(rf"^BENCH cells_quadrants_{n}_1 (\S+)$", out, re.M)
+    if not m:
+        sys.exit(f"bench_pairs.py: bench_cells.py printed no rate for {n}^2:\n{out}")
+    return float(m.group(1))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--sizes", type=sizes_arg, default=[256, 512], help="grid sizes n (n^2 cells), comma-separated (default 256,512)")
+    ap.add_argument("--pairs", type=pairs_arg, default=4, help="pairs per size, >= 1 (default 4)")
+    args = ap.parse_args()
+    for n in args.sizes:
+        print(f"quadrants {n}^2 against PyClaw, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (PyClaw's runs, then plyshock's; 1 core each)", flush=True)
+        ratios = []
+        for i in range(args.pairs):
+            rp = peer_rate(n)
+            if rp is None:
+                return
+            rc = plyshock_rate(n)
+            ratios.append(rc / rp)
+            print(f"  pair {i + 1}: PyClaw {rp / 1e6:.3f} M/s, plyshock {rc / 1e6:.3f} M/s, ratio {rc / rp:.3f}", flush=True)
+        med = statistics.median(ratios)
+        print(f"  median ratio {med:.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
+        print(f"BENCH cells_pairs_{n} {med:.6e}")
+        print(f"BENCH cells_pairs_lo_{n} {min(ratios):.6e}")
+        print(f"BENCH cells_pairs_hi_{n} {max(ratios):.6e}")
+        print(f"BENCH cells_pairs_k_{n} {len(ratios)}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
