@@ -190,9 +190,19 @@ static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolve
         continue;
       }
     }
+    if (!(s >= 0 && gasf[s])) {
+      /* a cell of several materials, of none, or of a material not in
+         C->gasf: its flag 0 alone (the kernel's arithmetic could only set
+         0; the phase's own loop takes the cell and reads none of the lane's
+         other values).  Until the thirty-fifth session such a cell took the
+         arithmetic here, one cell out of lanes, a chain of scalar divisions
+         in each of the three phases, for nothing */
+      flag[l] = 0.0;
+      continue;
+    }
     {
       const PetscReal *blk = &U[ms * (ci0 + i0 + l) + mst * ss];
-      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], s >= 0 ? EC[PS_EC * e] : 0.0, s >= 0 ? EC[PS_EC * e + 1] : 0.0, s >= 0 ? EC[PS_EC * e + 2] : 0.0, s >= 0 ? HM[hmat * e] : 0.0, gam[ss], s >= 0 && gasf[ss] ? 1.0 : 0.0};
+      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], EC[PS_EC * e], EC[PS_EC * e + 1], EC[PS_EC * e + 2], HM[hmat * e], gam[ss], 1.0};
       GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l, a, in);
     }
   }
