@@ -152,7 +152,8 @@ static inline __attribute__((always_inline)) void GasLanesCell(const PSSolver *S
    lanes, its inputs loaded straight from the blocks (strided loads, no
    planes between: until the twenty-sixth session a gather copied every
    cell's inputs into planes first, about 5% of the quadrants' step); every
-   other cell alone.  Returns whether a cell holds one material of C->gasf
+   other cell of one material of C->gasf alone, and any other cell its flag
+   0 alone.  Returns whether a cell holds one material of C->gasf
    (the first one ends the search; a count over the row cost about 1% of
    the quadrants' step); where none does, the kernel's flag plane (flag, nr
    reals) is zeroed and no cell is taken: the lanes' arithmetic is not
@@ -174,7 +175,7 @@ static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolve
     return 0;
   }
   for (l = 0; l < nr; l++) {
-    const PetscInt s = sole[l], ss = s >= 0 ? s : 0, e = s >= 0 ? eco[n0 + l] + s : 0;
+    const PetscInt s = sole[l], e = s >= 0 ? eco[n0 + l] + s : 0;
     if (s >= 0 && ms == PS_CQ) {
       const PetscInt b = l + PSCellsSoleRun(&sole[l], nr - l);
       if (b - l >= PS_LANES_RUN) {
@@ -201,8 +202,8 @@ static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolve
       continue;
     }
     {
-      const PetscReal *blk = &U[ms * (ci0 + i0 + l) + mst * ss];
-      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], EC[PS_EC * e], EC[PS_EC * e + 1], EC[PS_EC * e + 2], HM[hmat * e], gam[ss], 1.0};
+      const PetscReal *blk = &U[ms * (ci0 + i0 + l) + mst * s];
+      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], EC[PS_EC * e], EC[PS_EC * e + 1], EC[PS_EC * e + 2], HM[hmat * e], gam[s], 1.0};
       GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l, a, in);
     }
   }
