@@ -119,12 +119,12 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
 
 /* The lanes' inputs (ToGridGasLanes, PredictGasLanes, LagrangeGasLanes):
    of each cell [0, nr) of a row (cell i0 + l, ghosted index ci0 + i0 + l,
-   EOS slot index n0 + l), its material's M, V, E, EOS values, p_k^h (the
-   predictor's, where it has run), gamma, and 1 where the cell holds one
-   material of C->gasf (set with the cells, cells.c); a cell of several
-   materials or none takes zeros (its slots need not exist) */
+   EOS slot index n0 + l) that holds one material of C->gasf alone (set
+   with the cells, cells.c; GasLanesWalk takes no other cell): that
+   material's M, V, E, EOS values, p_k^h (the predictor's, where it has
+   run) and gamma */
 typedef struct {
-  PetscReal M, V, E, ec0, ec1, ec2, pk, g, gas;
+  PetscReal M, V, E, ec0, ec1, ec2, pk, g;
 } PSGasIn;
 
 /* the kernels' own arguments */
@@ -175,35 +175,37 @@ static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolve
     return 0;
   }
   for (l = 0; l < nr; l++) {
-    const PetscInt s = sole[l], e = s >= 0 ? eco[n0 + l] + s : 0;
-    if (s >= 0 && ms == PS_CQ) {
+    const PetscInt s = sole[l];
+    PetscInt       e;
+    if (!(s >= 0 && gasf[s])) {
+      /* a cell of several materials, of none, or of a material not in
+         C->gasf: its flag 0 alone (the phase's own loop takes the cell and
+         reads none of the lane's other values).  Until the thirty-fifth
+         session such a cell, or a run of such cells, took the kernel's
+         arithmetic (out of lanes for a cell alone: a chain of scalar
+         divisions in each of the three phases) only to set that flag */
+      flag[l] = 0.0;
+      continue;
+    }
+    e = eco[n0 + l] + s;
+    if (ms == PS_CQ) {
       const PetscInt b = l + PSCellsSoleRun(&sole[l], nr - l);
       if (b - l >= PS_LANES_RUN) {
         const PetscInt   len = b - l, l0 = l;
-        const PetscReal *Ub = &U[PS_CQ * (ci0 + i0 + l) + mst * s], *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s], gf = gasf[s] ? 1.0 : 0.0;
+        const PetscReal *Ub = &U[PS_CQ * (ci0 + i0 + l) + mst * s], *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s];
         PetscInt         x;
 #pragma GCC ivdep
         for (x = 0; x < len; x++) {
-          const PSGasIn in = {Ub[PS_CQ * x + PS_CM], Ub[PS_CQ * x + PS_CV], Ub[PS_CQ * x + PS_CE], Eb[PS_EC * x], Eb[PS_EC * x + 1], Eb[PS_EC * x + 2], Hb[hmat * x], g, gf};
+          const PSGasIn in = {Ub[PS_CQ * x + PS_CM], Ub[PS_CQ * x + PS_CV], Ub[PS_CQ * x + PS_CE], Eb[PS_EC * x], Eb[PS_EC * x + 1], Eb[PS_EC * x + 2], Hb[hmat * x], g};
           GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l0 + x, a, in);
         }
         l = b - 1;
         continue;
       }
     }
-    if (!(s >= 0 && gasf[s])) {
-      /* a cell of several materials, of none, or of a material not in
-         C->gasf: its flag 0 alone (the kernel's arithmetic could only set
-         0; the phase's own loop takes the cell and reads none of the lane's
-         other values).  Until the thirty-fifth session such a cell took the
-         arithmetic here, one cell out of lanes, a chain of scalar divisions
-         in each of the three phases, for nothing */
-      flag[l] = 0.0;
-      continue;
-    }
     {
       const PetscReal *blk = &U[ms * (ci0 + i0 + l) + mst * s];
-      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], EC[PS_EC * e], EC[PS_EC * e + 1], EC[PS_EC * e + 2], HM[hmat * e], gam[s], 1.0};
+      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], EC[PS_EC * e], EC[PS_EC * e + 1], EC[PS_EC * e + 2], HM[hmat * e], gam[s]};
       GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l, a, in);
     }
   }
@@ -297,7 +299,7 @@ static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *
   for (a = 0; a < nco; a++)
 #pragma GCC unroll 3
     for (d = 0; d < dim; d++) W[(PS_GL_F + a * dim + d) * w + l] = fs * GasLanesCornerForce(K, dim, a, d, sg, kap, hg);
-  W[PS_GL_FLAG * w + l] = in.gas != 0.0 && M > 0.0 ? 1.0 : 0.0;
+  W[PS_GL_FLAG * w + l] = M > 0.0 ? 1.0 : 0.0;
 }
 
 static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, PetscInt w, PetscReal *W)
@@ -653,7 +655,7 @@ static inline __attribute__((always_inline)) void PredictGasCell(const PSSolver 
   const PetscReal Vh = 0.0 + V1, Vhd = Vh != 0.0 ? Vh : 1.0;
   /* q^h at Mc / Vh; p_f^h and p_f^n */
   const PetscReal qh = GasLanesViscosity(Mc / Vhd, hm, trD, cmax, cl, cq), dp = GasLanesForcePressure(ec2, pk) + qh - GasLanesForcePressure(ec2, ec0) - Q;
-  const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
+  const PetscBool ok = M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc;
   W[PS_PL_FLAG * w + l] = ok ? 1.0 : 0.0;
   W[PS_PL_QH * w + l]   = qh;
   W[PS_PL_DSIG * w + l] = 0.0 - Vm * dp;
@@ -1091,7 +1093,7 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
   const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
   /* the time step's viscous term (Fastest's) */
   const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
-  const PetscBool ok = in.gas != 0.0 && M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
+  const PetscBool ok = M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
   W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
   W[PS_LL_XV * w + l]   = Vc + dV;
   W[PS_LL_V1 * w + l]   = V1;
