@@ -31,8 +31,9 @@ import statistics
 import subprocess
 import sys
 
+from bench_table import PYCLAW_ROW  # (scripts/bench_table.py: the peer's rows)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-PEER_ROW = r"\s*2D quadrants roe_split {n}x{n} t=\S+\s+\d+\s+\d+\s+\S+\s+\S+\s+\S+\.\.(\S+)"
 
 
 def sizes_arg(text):
@@ -64,9 +65,9 @@ def peer_rate(n):
     """PyClaw's rate (cell-updates/s) at n^2, the best of two runs in one process, or None where the peer did not run."""
     out = run(["bash", "scripts/peer_pyclaw", "--variants", "roe_split", "--sizes2d", str(n), "--sizes1d", "", "--reps", "2", "--tfinal2d", "0.2"])
     for line in out.splitlines():
-        m = re.match(PEER_ROW.format(n=n), line)
-        if m:
-            return float(m.group(1)) * 1e6
+        m = PYCLAW_ROW.match(line)
+        if m and int(m.group(1)) == n:
+            return float(m.group(3)) * 1e6
     print("\n".join(line for line in out.splitlines() if "peer_pyclaw" in line) or f"bench_pairs.py: no PyClaw row for {n}^2 in the peer's output")
     return None
 

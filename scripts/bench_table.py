@@ -13,6 +13,9 @@ constants (r3d's clipping rate and Karamelo's Taylor bar) are marked "quoted".
 import re
 import sys
 
+# PyClaw's rows: "2D quadrants roe_split 256x256 t=0.8  cells steps wall_med rate_med min..max ..."
+# (n, steps, the best rate in M/s); bench_pairs.py reads its runs with it too
+PYCLAW_ROW = re.compile(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+(\d+)\s+\S+\s+\S+\s+\S+\.\.(\S+)")
 R3D = 1.4e6                         # r3d: a box clipped by a slab, first moments, pieces/s/core (quoted)
 KARAMELO = {1: 0.50e6, 2: 0.87e6}   # Karamelo's copper Taylor bar, marker-steps/s on 1 and 2 ranks (quoted)
 
@@ -23,10 +26,10 @@ def read(path):
         f = line.split()
         if len(f) == 3 and f[0] in ("BENCH", "PEER"):
             b[f[1]] = float(f[2])
-        # PyClaw's rows: "2D quadrants roe_split 256x256 t=0.8  cells steps wall_med rate_med min..max ...":
-        # the best of its runs (max) over every table (scripts/bench runs it
-        # before and after the quadrants), as bench_cells.py reports its own best
-        m = re.match(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+(\d+)\s+\S+\s+\S+\s+\S+\.\.(\S+)", line)
+        # PyClaw's rows (PYCLAW_ROW): the best of its runs (max) over every
+        # table (scripts/bench runs it before and after the quadrants), as
+        # bench_cells.py reports its own best
+        m = PYCLAW_ROW.match(line)
         if m:
             b[f"pyclaw_{m.group(1)}"] = max(b.get(f"pyclaw_{m.group(1)}", 0.0), float(m.group(3)) * 1e6)
             b[f"pyclaw_steps_{m.group(1)}"] = float(m.group(2))
