@@ -124,7 +124,8 @@ static inline void CellMix(const PSCells *C, const PetscReal *u, const PetscReal
    material's M, V, E, EOS values, p_k^h (the predictor's, where it has
    run) and gamma */
 typedef struct {
-  PetscReal M, V, E, ec0, ec1, ec2, pk, g;
+  PetscReal  M, V, E, ec0, ec1, ec2, pk, g;
+  PetscReal *B; /* the material's block (V, M, E) of the cell: the Lagrangian phase's kernel stores its new V and E there */
 } PSGasIn;
 
 /* the kernels' own arguments */
@@ -132,6 +133,7 @@ typedef struct {
   PetscReal  dt, hm, fs; /* s, m (the largest cell size), P2G's force factor */
   PetscInt   w;          /* the planes' length */
   PetscReal *W;          /* the planes (the remap's scratch C->sW) */
+  PetscReal  cl, cq;     /* the artificial viscosity's coefficients (S->run's; here, not loaded in the kernels: a store to a cell's plane may alias S->run, and the load, under the test of compression, stayed in the loop, a masked load the lanes do not take) */
 } PSGasArgs;
 
 enum { PS_GK_P2G, PS_GK_PREDICT, PS_GK_LAGRANGE };
@@ -161,7 +163,8 @@ static inline __attribute__((always_inline)) void GasLanesCell(const PSSolver *S
 static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolver *S, const PetscInt kind, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, const PSGasArgs *a, PetscReal *flag)
 {
   const PSCells   *C = S->cells;
-  const PetscReal *U = C->u, *EC = C->ec, *HM = C->hm, *gam = C->gam;
+  PetscReal       *U  = C->u;
+  const PetscReal *EC = C->ec, *HM = C->hm, *gam = C->gam;
   const PetscInt  *gasf = C->gasf;
   const PetscInt  *eco = C->eco, ms = C->ms, mst = C->mst, hmat = PSCellsHalfMat(C);
   const short     *sole = &C->sole[ci0 + i0];
@@ -192,11 +195,12 @@ static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolve
       const PetscInt b = l + PSCellsSoleRun(&sole[l], nr - l);
       if (b - l >= PS_LANES_RUN) {
         const PetscInt   len = b - l, l0 = l;
-        const PetscReal *Ub = &U[PS_CQ * (ci0 + i0 + l) + mst * s], *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s];
+        PetscReal       *Ub = &U[PS_CQ * (ci0 + i0 + l) + mst * s];
+        const PetscReal *Eb = &EC[PS_EC * e], *Hb = &HM[hmat * e], g = gam[s];
         PetscInt         x;
 #pragma GCC ivdep
         for (x = 0; x < len; x++) {
-          const PSGasIn in = {Ub[PS_CQ * x + PS_CM], Ub[PS_CQ * x + PS_CV], Ub[PS_CQ * x + PS_CE], Eb[PS_EC * x], Eb[PS_EC * x + 1], Eb[PS_EC * x + 2], Hb[hmat * x], g};
+          const PSGasIn in = {Ub[PS_CQ * x + PS_CM], Ub[PS_CQ * x + PS_CV], Ub[PS_CQ * x + PS_CE], Eb[PS_EC * x], Eb[PS_EC * x + 1], Eb[PS_EC * x + 2], Hb[hmat * x], g, &Ub[PS_CQ * x]};
           GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l0 + x, a, in);
         }
         l = b - 1;
@@ -204,8 +208,8 @@ static inline __attribute__((always_inline)) PetscInt GasLanesWalk(const PSSolve
       }
     }
     {
-      const PetscReal *blk = &U[ms * (ci0 + i0 + l) + mst * s];
-      const PSGasIn    in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], EC[PS_EC * e], EC[PS_EC * e + 1], EC[PS_EC * e + 2], HM[hmat * e], gam[s]};
+      PetscReal    *blk = &U[ms * (ci0 + i0 + l) + mst * s];
+      const PSGasIn in  = {blk[PS_CM], blk[PS_CV], blk[PS_CE], EC[PS_EC * e], EC[PS_EC * e + 1], EC[PS_EC * e + 2], HM[hmat * e], gam[s], blk};
       GasLanesCell(S, kind, dim, ci0, oc0, n0, i0, l, a, in);
     }
   }
@@ -304,7 +308,7 @@ static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *
 
 static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, PetscInt w, PetscReal *W)
 {
-  const PSGasArgs a = {0.0, 0.0, fs, w, W};
+  const PSGasArgs a = {0.0, 0.0, fs, w, W, S->run.c_linear, S->run.c_quadratic};
   (void)GasLanesWalk(S, PS_GK_P2G, dim, ci0, oc0, n0, i0, nr, &a, &W[PS_GL_FLAG * w]);
 }
 
@@ -671,7 +675,7 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
   const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, pg = PS_PL_F + nco * dim; /* (PSCellsHalfSize; the hourglass rates' first plane) */
   const PSCorners *K  = &C->K;
   const PetscReal *HS = C->hs;
-  const PSGasArgs  A  = {dt, hm, 0.0, w, W};
+  const PSGasArgs  A  = {dt, hm, 0.0, w, W, S->run.c_linear, S->run.c_quadratic};
   PetscInt         l, a;
 
   if (!GasLanesWalk(S, PS_GK_PREDICT, dim, ci0, oc0, n0, i0, nr, &A, &W[PS_PL_FLAG * w])) return;
@@ -1052,19 +1056,32 @@ PetscErrorCode PSCellsPredict(PSSolver *S, const PSIndex *ix, PetscReal dt)
    [0, nr) of a row (cell i0 + l in lane l, as PredictGasLanes) that hold
    one material with mass, an ideal gas without a deviator (C->gasf) and
    without markers or void: the phase's arithmetic for such a cell, in its
-   order, without a branch, so the row's loop takes it in SIMD lanes.  Into
-   the planes of w reals at W: the flag (1: these values are the phase's;
-   0: its own loop takes the cell, among them one whose volume would not
-   stay positive or whose energy would go negative, which that loop reports
-   or books), the cell's volume V_c + dV,
-   the material's new volume and energy, q, the time step's viscous term and
-   density, c_max and the largest corner speed */
-enum { PS_LL_FLAG, PS_LL_XV, PS_LL_V1, PS_LL_E1, PS_LL_Q, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX };
+   order, without a branch, so the row's loop takes it in SIMD lanes.  The
+   cell's volume V_c + dV and q into its per-cell planes (C->ux), and the
+   material's new volume and energy into its block (in.B: with its mass
+   again, unchanged, so the three stores make a group without gaps, which
+   GCC takes in lanes); where the flag is 0 the block keeps its volume and
+   energy (stored again), and the phase's own loop takes the cell, among
+   them one whose volume would not stay positive or whose energy would go
+   negative, which that loop reports or books.  Into the planes of w reals
+   at W: the flag (1: these values are the phase's), the time step's speed
+   c_max + |v| + q/(rho c) and its parts (Fastest's viscous term, density,
+   c_max and the largest corner speed).  (Until the thirty-sixth session
+   the volumes, energy and q went through planes too, and a loop copied
+   them to the cells after the walk; a store into the cells' arrays in the
+   kernel left the walk out of lanes, because the coefficients of q, read
+   from S->run under the test of compression, stayed in the loop (the store
+   may alias them) as masked loads the lanes do not take: they now come in
+   PSGasArgs; and the flag's && made a branch, under which GCC moved
+   the energy's arithmetic and its loads: the flag's tests are now combined
+   with &) */
+enum { PS_LL_FLAG, PS_LL_SPEED, PS_LL_SQ, PS_LL_RHO, PS_LL_CMAX, PS_LL_VMAX };
 static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt l, const PSGasArgs *A, PSGasIn in)
 {
   const PSCells   *C   = S->cells;
   const PetscReal *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
-  const PetscReal *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic, dt = A->dt, hm = A->hm;
+  PetscReal       *XV = PSCellsX(C, 0, PS_CX_V), *XQ = PSCellsX(C, 0, PS_CX_Q);
+  const PetscReal *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = A->cl, cq = A->cq, dt = A->dt, hm = A->hm;
   const PetscInt   nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, w = A->w; /* (PSCellsHalfSize) */
   const PSCorners *K  = &C->K;
   PetscReal       *W  = A->W;
@@ -1093,12 +1110,14 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
   const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
   /* the time step's viscous term (Fastest's) */
   const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
-  const PetscBool ok = M > 0.0 && V > 0.0 && V0e <= PS_VOID_ROUNDOFF * Vc && V1 > 0.0 && !(E1 < 0.0);
+  const int       ok = (M > 0.0) & (V > 0.0) & (V0e <= PS_VOID_ROUNDOFF * Vc) & (V1 > 0.0) & !(E1 < 0.0);
+  XV[ci]                = Vc + dV;
+  XQ[ci]                = q;
+  in.B[PS_CV]           = ok ? V1 : V;
+  in.B[PS_CM]           = M;
+  in.B[PS_CE]           = ok ? E1 : E;
   W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
-  W[PS_LL_XV * w + l]   = Vc + dV;
-  W[PS_LL_V1 * w + l]   = V1;
-  W[PS_LL_E1 * w + l]   = E1;
-  W[PS_LL_Q * w + l]    = q;
+  W[PS_LL_SPEED * w + l] = cmax + vmax + sq;
   W[PS_LL_SQ * w + l]   = sq;
   W[PS_LL_RHO * w + l]  = rho;
   W[PS_LL_CMAX * w + l] = cmax;
@@ -1107,7 +1126,7 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
 
 static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
 {
-  const PSGasArgs A = {dt, hm, 0.0, w, W};
+  const PSGasArgs A = {dt, hm, 0.0, w, W, S->run.c_linear, S->run.c_quadratic};
   (void)GasLanesWalk(S, PS_GK_LAGRANGE, dim, ci0, oc0, n0, i0, nr, &A, &W[PS_LL_FLAG * w]);
 }
 
@@ -1181,49 +1200,22 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         PetscReal        L[3][3], vmax, dV, trD, Mc = 0.0, Vm = 0.0, cmax = 0.0, rho, q, dVk[PS_MAX_CELLMAT], dVr[PS_MAX_CELLMAT], pr, hgw = 0.0;
         const PetscInt   oc = oc0 + i;
         PetscInt         m0, m1;
-        if (lanes && W[PS_LL_FLAG * nw + l] != 0.0 && C->ms == PS_CQ) {
-          /* a run of the lanes' cells of one gas: their values to the cells in
-             SIMD lanes (the time step's c + |v| + q/(rho c) into the plane of
-             XV, read), then the time step's speeds in the cells' order, as
-             below (Fastest, where one is not below the largest so far) */
-          const PetscInt s = C->sole[ci], len0 = PSCellsSoleRun(&C->sole[ci], C->ce[0] - i);
-          const PetscInt len = PSLanesFlagRun(&W[PS_LL_FLAG * nw + l], 1, len0);
-          PetscInt       x;
-          if (len >= PS_LANES_RUN) {
-            PetscReal       *B = &C->u[PS_CQ * ci + s * C->mst], *xv = &XV[ci], *xq = &XQ[ci], *Wv = &W[PS_LL_XV * nw + l];
-            const PetscReal *Wq = &W[PS_LL_Q * nw + l], *W1 = &W[PS_LL_V1 * nw + l], *We = &W[PS_LL_E1 * nw + l];
-            const PetscReal *Wc = &W[PS_LL_CMAX * nw + l], *Wm = &W[PS_LL_VMAX * nw + l], *Ws = &W[PS_LL_SQ * nw + l], *Wr = &W[PS_LL_RHO * nw + l];
-#pragma GCC ivdep
-            for (x = 0; x < len; x++) {
-              xv[x]                = Wv[x];
-              xq[x]                = Wq[x];
-              B[PS_CQ * x + PS_CV] = W1[x];
-              B[PS_CQ * x + PS_CE] = We[x];
-              Wv[x]                = Wc[x] + Wm[x] + Ws[x];
-            }
-            {
-              /* (first whether any does, in SIMD lanes: the largest so far only
-                 grows, so where none passes the first, none passes its later
-                 values; the test one by one was 0.6% of the quadrants'
-                 instructions) */
-              int up = 0;
-              for (x = 0; x < len; x++) up |= !(Wv[x] <= smax);
-              if (up)
-                for (x = 0; x < len; x++)
-                  if (!(Wv[x] <= smax)) Fastest(S, i + x, j, k, Wc[x], Wm[x], Ws[x], Wr[x], &smax);
-            }
-            i += len - 1;
-            continue;
-          }
-        }
         if (lanes && W[PS_LL_FLAG * nw + l] != 0.0) {
-          /* a cell of the lanes: what the loop below leaves, their values */
-          PetscReal *blk = &u[C->sole[ci] * C->mst];
-          XV[ci]     = W[PS_LL_XV * nw + l];
-          XQ[ci]     = W[PS_LL_Q * nw + l];
-          blk[PS_CV] = W[PS_LL_V1 * nw + l];
-          blk[PS_CE] = W[PS_LL_E1 * nw + l];
-          Fastest(S, i, j, k, W[PS_LL_CMAX * nw + l], W[PS_LL_VMAX * nw + l], W[PS_LL_SQ * nw + l], W[PS_LL_RHO * nw + l], &smax);
+          /* a run of the lanes' cells (their state already stored by the
+             lanes): the time step's speeds in the cells' order, as below
+             (Fastest, where one is not below the largest so far; first
+             whether any is, in SIMD lanes: the largest so far only grows, so
+             where none passes the first, none passes its later values; the
+             test one by one was 0.6% of the quadrants' instructions) */
+          const PetscInt   len = PSLanesFlagRun(&W[PS_LL_FLAG * nw + l], 1, C->ce[0] - i);
+          const PetscReal *Wv = &W[PS_LL_SPEED * nw + l], *Wc = &W[PS_LL_CMAX * nw + l], *Wm = &W[PS_LL_VMAX * nw + l], *Ws = &W[PS_LL_SQ * nw + l], *Wr = &W[PS_LL_RHO * nw + l];
+          PetscInt         x;
+          int              up = 0;
+          for (x = 0; x < len; x++) up |= !(Wv[x] <= smax);
+          if (up)
+            for (x = 0; x < len; x++)
+              if (!(Wv[x] <= smax)) Fastest(S, i + x, j, k, Wc[x], Wm[x], Ws[x], Wr[x], &smax);
+          i += len - 1;
           continue;
         }
         CellGradientDim(&C->K, dim, oc, C->vh, L, &vmax);
