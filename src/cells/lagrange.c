@@ -1111,17 +1111,17 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
   /* the time step's viscous term (Fastest's) */
   const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
   const int       ok = (M > 0.0) & (V > 0.0) & (V0e <= PS_VOID_ROUNDOFF * Vc) & (V1 > 0.0) & !(E1 < 0.0);
-  XV[ci]                = Vc + dV;
-  XQ[ci]                = q;
-  in.B[PS_CV]           = ok ? V1 : V;
-  in.B[PS_CM]           = M;
-  in.B[PS_CE]           = ok ? E1 : E;
-  W[PS_LL_FLAG * w + l] = ok ? 1.0 : 0.0;
+  XV[ci]                 = Vc + dV;
+  XQ[ci]                 = q;
+  in.B[PS_CV]            = ok ? V1 : V;
+  in.B[PS_CM]            = M;
+  in.B[PS_CE]            = ok ? E1 : E;
+  W[PS_LL_FLAG * w + l]  = ok ? 1.0 : 0.0;
   W[PS_LL_SPEED * w + l] = cmax + vmax + sq;
-  W[PS_LL_SQ * w + l]   = sq;
-  W[PS_LL_RHO * w + l]  = rho;
-  W[PS_LL_CMAX * w + l] = cmax;
-  W[PS_LL_VMAX * w + l] = vmax;
+  W[PS_LL_SQ * w + l]    = sq;
+  W[PS_LL_RHO * w + l]   = rho;
+  W[PS_LL_CMAX * w + l]  = cmax;
+  W[PS_LL_VMAX * w + l]  = vmax;
 }
 
 static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
