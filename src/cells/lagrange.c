@@ -1082,7 +1082,12 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
   const PetscReal *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
   PetscReal       *XV = PSCellsX(C, 0, PS_CX_V), *XQ = PSCellsX(C, 0, PS_CX_Q);
   const PetscReal *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = A->cl, cq = A->cq, dt = A->dt, hm = A->hm;
-  const PetscInt   nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, w = A->w; /* (PSCellsHalfSize) */
+  /* (PSCellsHalfSize; in 3D read from C at run time: with the constant 13,
+     GCC takes the slot's 13 loads as a group of 13, which it does not put
+     in SIMD lanes, and left the 3D walk scalar until the thirty-sixth
+     session; with a stride it does not know it loads them one by one into
+     the lanes, and the walk runs in lanes) */
+  const PetscInt   nh = dim == 3 ? 4 : 1, hsd = dim == 3 ? PSCellsHalfSize(C) : 1 + nh * dim, w = A->w;
   const PSCorners *K  = &C->K;
   PetscReal       *W  = A->W;
   const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;
