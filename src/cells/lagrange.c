@@ -672,7 +672,7 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
 {
   const PSCells   *C  = S->cells;
   const PetscReal *vh = C->vh;
-  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = 1 + nh * dim, pg = PS_PL_F + nco * dim; /* (PSCellsHalfSize; the hourglass rates' first plane) */
+  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = dim == 3 ? PSCellsHalfSize(C) : 1 + nh * dim, pg = PS_PL_F + nco * dim; /* (PSCellsHalfSize, in 3D read at run time: LagrangeGasCell says why; the hourglass rates' first plane) */
   const PSCorners *K  = &C->K;
   const PetscReal *HS = C->hs;
   const PSGasArgs  A  = {dt, hm, 0.0, w, W, S->run.c_linear, S->run.c_quadratic};
