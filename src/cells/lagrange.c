@@ -136,6 +136,23 @@ typedef struct {
   PetscReal  cl, cq;     /* the artificial viscosity's coefficients (S->run's; here, not loaded in the kernels: a store to a cell's plane may alias S->run, and the load, under the test of compression, stayed in the loop, a masked load the lanes do not take) */
 } PSGasArgs;
 
+static inline PSGasArgs GasLanesArgs(const PSSolver *S, PetscReal dt, PetscReal hm, PetscReal fs, PetscInt w, PetscReal *W)
+{
+  const PSGasArgs a = {dt, hm, fs, w, W, S->run.c_linear, S->run.c_quadratic};
+  return a;
+}
+
+/* the reals of a cell's half-step slot (PSCellsHalfSize) as the lanes'
+   loops index it: the constant in 2D, read from C at run time in 3D.  With
+   the constant 13, GCC 12 takes a slot's 13 loads as a group of 13, which it
+   neither interleaves nor loads one by one, and left the 3D Lagrangian walk
+   and the predictor's force loop scalar until the thirty-sixth session;
+   with a stride it does not know it loads them one by one into the lanes */
+static inline PetscInt GasLanesHalfSize(const PSCells *C, const PetscInt dim)
+{
+  return dim == 3 ? PSCellsHalfSize(C) : 1 + dim;
+}
+
 enum { PS_GK_P2G, PS_GK_PREDICT, PS_GK_LAGRANGE };
 static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *, const PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, const PSGasArgs *, PSGasIn);
 static inline __attribute__((always_inline)) void PredictGasCell(const PSSolver *, const PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, PetscInt, const PSGasArgs *, PSGasIn);
@@ -308,7 +325,7 @@ static inline __attribute__((always_inline)) void ToGridGasCell(const PSSolver *
 
 static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal fs, PetscInt w, PetscReal *W)
 {
-  const PSGasArgs a = {0.0, 0.0, fs, w, W, S->run.c_linear, S->run.c_quadratic};
+  const PSGasArgs a = GasLanesArgs(S, 0.0, 0.0, fs, w, W);
   (void)GasLanesWalk(S, PS_GK_P2G, dim, ci0, oc0, n0, i0, nr, &a, &W[PS_GL_FLAG * w]);
 }
 
@@ -633,7 +650,7 @@ static inline __attribute__((always_inline)) void PredictGasCell(const PSSolver 
 {
   const PSCells   *C  = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q), *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
-  const PetscReal *vh = C->vh, Vc = C->Vc, cl = S->run.c_linear, cq = S->run.c_quadratic, dt = A->dt, hm = A->hm;
+  const PetscReal *vh = C->vh, Vc = C->Vc, cl = A->cl, cq = A->cq, dt = A->dt, hm = A->hm;
   const PetscInt   nco = 1 << dim, w = A->w;
   const PSCorners *K  = &C->K;
   PetscReal       *W  = A->W;
@@ -672,10 +689,10 @@ static inline void PredictGasLanes(const PSSolver *S, const PetscInt dim, PetscI
 {
   const PSCells   *C  = S->cells;
   const PetscReal *vh = C->vh;
-  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = dim == 3 ? PSCellsHalfSize(C) : 1 + nh * dim, pg = PS_PL_F + nco * dim; /* (PSCellsHalfSize, in 3D read at run time: LagrangeGasCell says why; the hourglass rates' first plane) */
+  const PetscInt   nco = 1 << dim, nh = dim == 3 ? 4 : 1, hsd = GasLanesHalfSize(C, dim), pg = PS_PL_F + nco * dim; /* (the hourglass rates' first plane) */
   const PSCorners *K  = &C->K;
   const PetscReal *HS = C->hs;
-  const PSGasArgs  A  = {dt, hm, 0.0, w, W, S->run.c_linear, S->run.c_quadratic};
+  const PSGasArgs  A  = GasLanesArgs(S, dt, hm, 0.0, w, W);
   PetscInt         l, a;
 
   if (!GasLanesWalk(S, PS_GK_PREDICT, dim, ci0, oc0, n0, i0, nr, &A, &W[PS_PL_FLAG * w])) return;
@@ -1082,12 +1099,7 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
   const PetscReal *XAM = PSCellsX(C, 0, PS_CX_AM), *XCM = PSCellsX(C, 0, PS_CX_CM);
   PetscReal       *XV = PSCellsX(C, 0, PS_CX_V), *XQ = PSCellsX(C, 0, PS_CX_Q);
   const PetscReal *HS = C->hs, *vh = C->vh, Vc = C->Vc, cl = A->cl, cq = A->cq, dt = A->dt, hm = A->hm;
-  /* (PSCellsHalfSize; in 3D read from C at run time: with the constant 13,
-     GCC takes the slot's 13 loads as a group of 13, which it does not put
-     in SIMD lanes, and left the 3D walk scalar until the thirty-sixth
-     session; with a stride it does not know it loads them one by one into
-     the lanes, and the walk runs in lanes) */
-  const PetscInt   nh = dim == 3 ? 4 : 1, hsd = dim == 3 ? PSCellsHalfSize(C) : 1 + nh * dim, w = A->w;
+  const PetscInt   nh = dim == 3 ? 4 : 1, hsd = GasLanesHalfSize(C, dim), w = A->w;
   const PSCorners *K  = &C->K;
   PetscReal       *W  = A->W;
   const PetscInt   ci = ci0 + i0 + l, oc = oc0 + i0 + l;
@@ -1131,7 +1143,7 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
 
 static inline void LagrangeGasLanes(const PSSolver *S, const PetscInt dim, PetscInt ci0, PetscInt oc0, PetscInt n0, PetscInt i0, PetscInt nr, PetscReal dt, PetscReal hm, PetscInt w, PetscReal *W)
 {
-  const PSGasArgs A = {dt, hm, 0.0, w, W, S->run.c_linear, S->run.c_quadratic};
+  const PSGasArgs A = GasLanesArgs(S, dt, hm, 0.0, w, W);
   (void)GasLanesWalk(S, PS_GK_LAGRANGE, dim, ci0, oc0, n0, i0, nr, &A, &W[PS_LL_FLAG * w]);
 }
 
