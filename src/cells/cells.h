@@ -74,6 +74,23 @@ static inline PetscReal PSHourglassSign(PetscInt a, PetscInt m)
   return m == 0 ? s0 * s1 : m == 1 ? s1 * s2 : m == 2 ? s0 * s2 : s0 * s1 * s2;
 }
 
+/* The Lagrangian phase's progress through a step (lagrange.c).  In a scene
+   of cells alone (no marker bodies, no contact: nothing reads or writes the
+   nodes between the predictor and the Lagrangian phase) on a rank without
+   ghost nodes across y (2D) or z (3D), its units of cells (rows in 2D,
+   planes in 3D) run one behind the predictor's, where their nodes have just
+   been corrected, while the cells' state is still in the caches
+   (PSCellsPredict); the units next to a rank above, and the ghost nodes,
+   after the grid's halo (PSCellsLagrange).  Each unit, node and sum as in
+   the phase's own pass, in the same order */
+typedef struct {
+  PetscBool fused; /* this step's units run behind the predictor's */
+  PetscInt  next;  /* the next unit of cells to run (its index along y in 2D, z in 3D) */
+  PetscInt  nb;    /* the local units of nodes done (LagrangeNodes) up to nb, from nb0 */
+  PetscInt  nb0;   /* the first local unit of this rank's own nodes (the ghosts below it wait for the halo) */
+  PetscReal smax;  /* the largest c + |v| + viscous term so far (m/s) */
+} PSLagProgress;
+
 typedef struct PSCells_ {
   PetscInt  dim;
   PetscInt  nmat;                 /* cell materials */
@@ -130,6 +147,7 @@ typedef struct PSCells_ {
   PetscReal coupling_work;        /* this rank: work of fitting cell materials around the markers (J) */
   PetscReal discarded;            /* this rank: mass of traces discarded by the remap (kg; booked in lost_mass) */
   PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
+  PSLagProgress lag;              /* the Lagrangian phase's progress through the step (lagrange.c) */
   PetscReal sat[7];               /* the cell that sets it: centre x (m, 3), c, |v|, viscous term (m/s), density (kg/m^3) */
   PSCorners  K;                   /* every cell's corners (lagrange.c) */
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */

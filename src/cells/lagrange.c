@@ -50,6 +50,12 @@
   the loop's order; the predictor's corners' sums; the Lagrangian phase's
   stores of a run of one gas in lanes; every other cell whole).
   -run_lanes 1 skips the lanes, for checks (bitwise the same).
+
+  In a scene of cells alone the Lagrangian phase runs a unit (row in 2D,
+  plane in 3D) behind the predictor, where the corrector has just finished
+  the unit's nodes and the cells' state is still in the caches
+  (LagrangeBehind; PSLagProgress in cells.h); PSCellsLagrange then runs
+  what is left.  -run_lanes 1 keeps it to a pass of its own.
 */
 #include "cells.h"
 #include "closure.h"
@@ -861,6 +867,8 @@ static inline void CorrectNodesUpTo(PSSolver *S, const PSIndex *ix, PetscReal dt
   *nxt = u1;
 }
 
+static inline PetscErrorCode LagrangeBehind(PSSolver *, const PSIndex *, PetscReal, const PetscInt, PetscInt);
+
 /* the predictor-corrector: dim and strength constants where it is called
    (PSCellsPredict picks them as PSCellsToGrid), so the per-cell loops
    unroll, and without strength the force's change is a pressure's */
@@ -890,6 +898,17 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
      is read and written while in the caches, not in three passes */
   Clip(S->zbox, ix->os, ix->om, lo, hi);
   nxt = lo[dim - 1];
+  /* the Lagrangian phase one unit behind, in a scene of cells alone on a
+     rank without ghost nodes across the units (PSLagProgress); -run_lanes 1
+     keeps it to its own pass, for checks */
+  {
+    PetscBool across = PETSC_TRUE;
+    for (d = 0; d < dim - 1; d++) across = across && ix->gm[d] == ix->om[d] ? PETSC_TRUE : PETSC_FALSE;
+    C->lag.fused = !C->markers && !S->contact && lanes && across ? PETSC_TRUE : PETSC_FALSE;
+    C->lag.next  = C->cs[dim - 1];
+    C->lag.nb = C->lag.nb0 = ix->os[dim - 1] - ix->gs[dim - 1];
+    C->lag.smax = 0.0;
+  }
   for (k = C->xs[2]; k < C->ce[2]; k++) {
     if (dim == 3) PredictNodesUpTo(S, ix, dim, musl, k, &nb);
     for (j = C->xs[1]; j < C->ce[1]; j++) {
@@ -1042,9 +1061,15 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
           }
         }
       }
-      if (dim == 2) CorrectNodesUpTo(S, ix, dt, dim, musl, lo, hi, j, &nxt);
+      if (dim == 2) {
+        CorrectNodesUpTo(S, ix, dt, dim, musl, lo, hi, j, &nxt);
+        if (C->lag.fused) PetscCall(LagrangeBehind(S, ix, dt, dim, j - 1)); /* (its upper corners, j + PS_PAD, corrected) */
+      }
     }
-    if (dim == 3) CorrectNodesUpTo(S, ix, dt, dim, musl, lo, hi, k, &nxt);
+    if (dim == 3) {
+      CorrectNodesUpTo(S, ix, dt, dim, musl, lo, hi, k, &nxt);
+      if (C->lag.fused) PetscCall(LagrangeBehind(S, ix, dt, dim, k - 1));
+    }
   }
   /* the nodes the loop above left: the predictor's values of every local
      node, and the corrector of the owned ones; then the ghosts */
@@ -1180,33 +1205,33 @@ static inline PetscInt LagrangeNodes(PSSolver *S, const PSIndex *ix, const Petsc
   return u1;
 }
 
-/* the Lagrangian phase: dim a constant where it is called (PSCellsLagrange picks 2D or 3D), so
-   the per-cell loops unroll */
-static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
+/* the Lagrangian phase of one unit of cells c (the row j = c in 2D, the
+   plane k = c in 3D), its nodes' values first (LagrangeNodes, up to the
+   unit's upper corners, from lp->nb on); dim a constant where it is called,
+   so the per-cell loops unroll */
+static inline PetscErrorCode LagrangeUnit(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscInt c, PSLagProgress *lp)
 {
   PSCells        *C = S->cells;
   PetscReal      *XQ = PSCellsX(C, 0, PS_CX_Q), *XV = PSCellsX(C, 0, PS_CX_V); /* the per-cell planes of q and the cells' volumes (PSCellsX) */
   const PetscInt  nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
-  PetscReal       hm = 0.0, smax = 0.0, *W = C->sW;
-  PetscInt        i, j, k, m, d, nb;
+  const PetscInt  k0 = dim == 3 ? c : C->cs[2], k1 = dim == 3 ? c + 1 : C->ce[2], j0 = dim == 3 ? C->cs[1] : c, j1 = dim == 3 ? C->ce[1] : c + 1;
+  PetscReal       hm = 0.0, smax = lp->smax, *W = C->sW;
+  PetscInt        i, j, k, m, d;
 
   PetscFunctionBeginUser;
-  if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
-  PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
   /* the cell materials take the new nodal velocity (every local node: the
      remap reads ghost nodes too), and their faces move with v^{n+1/2} =
      (v^n + v^{n+1})/2, on which the half-step force does its work
      (PSCellsPredict): LagrangeNodes, a row (2D) or plane (3D) of nodes
      just before the first cells that read it (nb: the units of nodes done) */
-  nb = 0;
-  for (k = C->cs[2]; k < C->ce[2]; k++)
-    for (j = C->cs[1]; j < C->ce[1]; j++) {
+  lp->nb = LagrangeNodes(S, ix, dim, lp->nb, PSCellsUnitsThrough(ix, dim, c));
+  for (k = k0; k < k1; k++)
+    for (j = j0; j < j1; j++) {
       PetscInt       ci0, oc0;
       const PetscInt x0 = PSCellsXIdx(C, 0, j, k);
-      nb = LagrangeNodes(S, ix, dim, nb, PSCellsUnitsThrough(ix, dim, dim == 3 ? k : j));
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, NULL, NULL);
       if (lanes) LagrangeGasLanes(S, dim, ci0, oc0, x0 + C->cs[0], C->cs[0], C->ce[0] - C->cs[0], dt, hm, nw, W);
       for (i = C->cs[0]; i < C->ce[0]; i++) {
@@ -1305,8 +1330,49 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
         Fastest(S, i, j, k, cmax, vmax, q > 0.0 ? q / (rho * PetscMax(cmax, 0.5 * PetscSqrtReal(q / rho))) : 0.0, rho, &smax);
       }
     }
-  (void)LagrangeNodes(S, ix, dim, nb, ix->gm[dim - 1]); /* (the nodes above the cells') */
-  C->smax = smax;
+  lp->smax = smax;
+  lp->next = c + 1;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the Lagrangian phase's units that can run behind the predictor's (a scene
+   of cells alone: PSCellsPredictDim) up to unit c: those whose nodes are
+   all this rank's own, so that the predictor has corrected them (the units
+   next to a rank above wait for the halo: PSCellsLagrangeDim) */
+static inline PetscErrorCode LagrangeBehind(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, PetscInt c)
+{
+  PSCells       *C = S->cells;
+  const PetscInt e = dim - 1;
+
+  PetscFunctionBeginUser;
+  c = PetscMin(c, PetscMin(C->ce[e] - 1, ix->os[e] + ix->om[e] - 2 - PS_PAD)); /* (the unit's upper corners, grid index c + 1 + PS_PAD, owned) */
+  while (C->lag.next <= c) PetscCall(LagrangeUnit(S, ix, dt, dim, C->lag.next, &C->lag));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the Lagrangian phase: the units of cells the predictor has not run
+   behind it (all of them unless C->lag.fused), then the nodes it has not
+   reached (the ghosts below this rank's own, above the cells' last unit);
+   dim a constant where it is called */
+static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
+{
+  PSCells       *C = S->cells;
+  const PetscInt e = dim - 1;
+  PetscInt       c;
+
+  PetscFunctionBeginUser;
+  if (!EV_Lag) PetscCall(PetscLogEventRegister("PSCellsLagrange", 0, &EV_Lag));
+  PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
+  if (!C->lag.fused) {
+    C->lag.next = C->cs[e];
+    C->lag.nb = C->lag.nb0 = 0;
+    C->lag.smax = 0.0;
+  }
+  for (c = C->lag.next; c < C->ce[e]; c++) PetscCall(LagrangeUnit(S, ix, dt, dim, c, &C->lag));
+  (void)LagrangeNodes(S, ix, dim, 0, C->lag.nb0);                /* (the ghosts below, after the halo) */
+  (void)LagrangeNodes(S, ix, dim, C->lag.nb, ix->gm[dim - 1]);   /* (the nodes above the cells') */
+  C->smax     = C->lag.smax;
+  C->lag.fused = PETSC_FALSE;
   PetscCall(PetscLogEventEnd(EV_Lag, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
