@@ -906,8 +906,9 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
     for (d = 0; d < dim - 1; d++) across = across && ix->gm[d] == ix->om[d] ? PETSC_TRUE : PETSC_FALSE;
     C->lag.fused = !C->markers && !S->contact && lanes && across ? PETSC_TRUE : PETSC_FALSE;
     C->lag.next  = C->cs[dim - 1];
-    C->lag.nb = C->lag.nb0 = ix->os[dim - 1] - ix->gs[dim - 1];
-    C->lag.smax = 0.0;
+    C->lag.nb    = ix->os[dim - 1] - ix->gs[dim - 1];
+    C->lag.nb0   = C->lag.nb;
+    C->lag.smax  = 0.0;
   }
   for (k = C->xs[2]; k < C->ce[2]; k++) {
     if (dim == 3) PredictNodesUpTo(S, ix, dim, musl, k, &nb);
@@ -1226,7 +1227,8 @@ static inline PetscErrorCode LagrangeUnit(PSSolver *S, const PSIndex *ix, PetscR
      remap reads ghost nodes too), and their faces move with v^{n+1/2} =
      (v^n + v^{n+1})/2, on which the half-step force does its work
      (PSCellsPredict): LagrangeNodes, a row (2D) or plane (3D) of nodes
-     just before the first cells that read it (nb: the units of nodes done) */
+     just before the first cells that read it (lp->nb: the units of nodes
+     done) */
   lp->nb = LagrangeNodes(S, ix, dim, lp->nb, PSCellsUnitsThrough(ix, dim, c));
   for (k = k0; k < k1; k++)
     for (j = j0; j < j1; j++) {
@@ -1365,13 +1367,14 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
   PetscCall(PetscLogEventBegin(EV_Lag, 0, 0, 0, 0));
   if (!C->lag.fused) {
     C->lag.next = C->cs[e];
-    C->lag.nb = C->lag.nb0 = 0;
+    C->lag.nb   = 0;
+    C->lag.nb0  = 0;
     C->lag.smax = 0.0;
   }
   for (c = C->lag.next; c < C->ce[e]; c++) PetscCall(LagrangeUnit(S, ix, dt, dim, c, &C->lag));
   (void)LagrangeNodes(S, ix, dim, 0, C->lag.nb0);                /* (the ghosts below, after the halo) */
   (void)LagrangeNodes(S, ix, dim, C->lag.nb, ix->gm[dim - 1]);   /* (the nodes above the cells') */
-  C->smax     = C->lag.smax;
+  C->smax      = C->lag.smax;
   C->lag.fused = PETSC_FALSE;
   PetscCall(PetscLogEventEnd(EV_Lag, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
