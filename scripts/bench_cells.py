@@ -52,6 +52,7 @@ from mpi4py import MPI  # noqa: E402
 from plyshock import Body, Box, Grid, Material, Run, Scene  # noqa: E402
 from plyshock import core  # noqa: E402
 from benchlib import GAS, QUADRANTS, WALLS, quadrants_scene, resident_bytes, timed_steps  # noqa: E402  (scripts/benchlib.py)
+from bench_table import CELL_PHASES  # noqa: E402  (the Lagrangian phases' events and labels)
 
 opts = PETSc.Options()
 case = opts.getString("bench_case", "quadrants")
@@ -133,10 +134,7 @@ if comm.getRank() == 0:
 # (2x PyClaw's rate: 1e9 / (2 rate) ns).  At 128^2 the arrays (about 10 MB)
 # sit in the caches, and the rate no longer depends on the size (one gas: the
 # same from 64^2 to 256^2), so that size's figures are the phases' arithmetic
-# (a scene of cells alone runs the Lagrangian phase a unit behind the
-# predictor, inside its event; PSCellsLagrange keeps the units after the halo)
-phases = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor+Lagrange", "PSCellsPredict"), ("Lagrange's rest", "PSCellsLagrange"),
-          ("remap", "PSCellsRemap"), ("nodal velocities", "PSCellsPrep"), ("fractions+faces+cells", "PSCellsFlux"), ("halo+masses", "PSCellsHalo"), ("KE fix", "PSCellsKE")]
+phases = CELL_PHASES + [("remap", "PSCellsRemap"), ("nodal velocities", "PSCellsPrep"), ("fractions+faces+cells", "PSCellsFlux"), ("halo+masses", "PSCellsHalo"), ("KE fix", "PSCellsKE")]
 nstep = max(PETSc.Log.Event("PSCellsRemap").getPerfInfo()["count"], 1)
 parts = []
 for label, ev in phases:

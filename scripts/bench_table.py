@@ -16,6 +16,10 @@ import sys
 # PyClaw's rows: "2D quadrants roe_split 256x256 t=0.8  cells steps wall_med rate_med min..max ..."
 # (n, steps, the best rate in M/s); bench_pairs.py reads its runs with it too
 PYCLAW_ROW = re.compile(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+(\d+)\s+\S+\s+\S+\s+\S+\.\.(\S+)")
+# the cells' Lagrangian phases by their log events, as bench_cells.py prints
+# them (a scene of cells alone runs the Lagrangian phase a unit behind the
+# predictor, inside its event; PSCellsLagrange keeps the units after the halo)
+CELL_PHASES = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor+Lagrange", "PSCellsPredict"), ("Lagrange's rest", "PSCellsLagrange")]
 R3D = 1.4e6                         # r3d: a box clipped by a slab, first moments, pieces/s/core (quoted)
 KARAMELO = {1: 0.50e6, 2: 0.87e6}   # Karamelo's copper Taylor bar, marker-steps/s on 1 and 2 ranks (quoted)
 
@@ -103,9 +107,7 @@ def main():
         rows.append(("a pass of the step's kind over the 512^2 quadrants' state, 1 core", f"{r5 / 1e9:.3g} GB/s over {m5} MiB",
                      f"over the 256^2's, same run: {r2 / 1e9:.3g} GB/s over {m2} MiB", f"{r5 / r2:.2f}", "", ""))
     # the in-cache step's phases against the time per cell-update 2x PyClaw leaves
-    # (a scene of cells alone runs the Lagrangian phase a unit behind the
-    # predictor, inside its event: PSCellsLagrange keeps the units after the halo)
-    ph = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor+Lagrange", "PSCellsPredict"), ("Lagrange's rest", "PSCellsLagrange"), ("remap", "PSCellsRemap")]
+    ph = CELL_PHASES + [("remap", "PSCellsRemap")]
     keys = [f"cells_phase_ns_{ev}_quadrants_128_1" for _, ev in ph]
     if all(k in b for k in keys) and "pyclaw_256" in b:
         budget = 1e9 / (2.0 * b["pyclaw_256"])
@@ -124,13 +126,13 @@ def main():
                      f"stripped one-gas sweep in SIMD passes, same run: {b['sweep_floor_ns_256']:.3g} ns"
                      + (f" (one pass {b['sweep_floor_onepass_ns_256']:.3g}, interleaved {b['sweep_floor_interleaved_ns_256']:.3g})" if "sweep_floor_interleaved_ns_256" in b else ""), f"{b['cells_flux_ns_pure_256_1'] / b['sweep_floor_ns_256']:.2f}", "", ""))
     # the pure case's Lagrangian phases against the same arithmetic stripped of generality (lagrange_floor.c)
-    lag = [("P2G", "PSCellsP2G", "p2g"), ("grid", "PSGridUpdate", "grid"), ("predictor", "PSCellsPredict", "predictor"), ("Lagrange", "PSCellsLagrange", "lagrange")]
-    mine = {"predictor": "predictor+Lagrange", "Lagrange": "Lagrange's rest"}  # (plyshock's events: as above)
-    keys = [f"cells_phase_ns_{ev}_pure_256_1" for _, ev, _ in lag]
+    # (the floor's phases, each beside plyshock's event: CELL_PHASES)
+    floor = [("P2G", "p2g"), ("grid", "grid"), ("predictor", "predictor"), ("Lagrange", "lagrange")]
+    keys = [f"cells_phase_ns_{ev}_pure_256_1" for _, ev in CELL_PHASES]
     if all(k in b for k in keys) and "lagrange_floor_ns_256" in b:
         tot = sum(b[k] for k in keys)
-        rows.append(("cells, Lagrangian phases, pure gas 256^2, 1 rank, ns per cell-update: " + ", ".join(f"{mine.get(lab, lab)} {b[k]:.3g}" for (lab, _, _), k in zip(lag, keys)),
-                     f"{tot:.3g} ns", "stripped one-gas phases in SIMD passes, same run: " + ", ".join(f"{lab} {b[f'lagrange_floor_{fk}_ns_256']:.3g}" for lab, _, fk in lag)
+        rows.append(("cells, Lagrangian phases, pure gas 256^2, 1 rank, ns per cell-update: " + ", ".join(f"{lab} {b[k]:.3g}" for (lab, _), k in zip(CELL_PHASES, keys)),
+                     f"{tot:.3g} ns", "stripped one-gas phases in SIMD passes, same run: " + ", ".join(f"{lab} {b[f'lagrange_floor_{fk}_ns_256']:.3g}" for lab, fk in floor)
                      + f" = {b['lagrange_floor_ns_256']:.3g} ns (one pass {b['lagrange_floor_onepass_ns_256']:.3g}"
                      + (f", interleaved {b['lagrange_floor_interleaved_ns_256']:.3g})" if "lagrange_floor_interleaved_ns_256" in b else ")"), f"{tot / b['lagrange_floor_ns_256']:.2f}", "", ""))
     # the same step counted in instructions (scripts/bench_instructions): no ratio, a figure that does not move with the machine's load
