@@ -187,9 +187,11 @@ PetscErrorCode PSCellsExchange(PSCells *C)
 /* m^C_i = sum_c M_c / 2^dim over the cells around each local node (ghost
    nodes included where their cells are in the ghosted box), from C->Mcell:
    each node sums its cells in the order of the cell array (z, y, x) (a cell
-   without mass adds nothing); dim a constant where it is called (NodalMassGather
-   picks 2D or 3D), so the loop over a node's cells unrolls */
-static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, const PetscInt dim)
+   without mass adds nothing), into mc; the nodes whose index along y (2D) or
+   z (3D) lies in [n0, n1) alone (PSCellsNodalMassUnits); dim a constant
+   where it is called (NodalMassGather picks 2D or 3D), so the loop over a
+   node's cells unrolls */
+static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, PetscReal *mcn, PetscInt n0, PetscInt n1, const PetscInt dim)
 {
   PSCells        *C   = S->cells;
   const PetscInt  nco = 1 << dim;
@@ -199,8 +201,8 @@ static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, 
   PetscFunctionBeginUser;
   /* a node's cells from its lower-left one, in the loop order below (x fastest) */
   for (a = 0; a < nco; a++) off[a] = (a & 1) + ((a >> 1) & 1) * C->gm[0] + ((a >> 2) & 1) * C->gm[0] * C->gm[1];
-  for (n[2] = ix->gs[2]; n[2] < ix->gs[2] + ix->gm[2]; n[2]++)
-    for (n[1] = ix->gs[1]; n[1] < ix->gs[1] + ix->gm[1]; n[1]++) {
+  for (n[2] = dim == 3 ? PetscMax(n0, ix->gs[2]) : 0; n[2] < (dim == 3 ? PetscMin(n1, ix->gs[2] + ix->gm[2]) : 1); n[2]++)
+    for (n[1] = dim == 2 ? PetscMax(n0, ix->gs[1]) : ix->gs[1]; n[1] < (dim == 2 ? PetscMin(n1, ix->gs[1] + ix->gm[1]) : ix->gs[1] + ix->gm[1]); n[1]++) {
       /* the nodes of this row whose 2^dim cells are all in the ghosted cell
          box (nearly all): the same sum without the clipping.  Physical node
          n - PS_PAD has cells n - PS_PAD - 1 and n - PS_PAD along each direction */
@@ -218,7 +220,7 @@ static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, 
              SIMD lanes, each node's sum in the same order); a cell without
              mass adds w 0 = 0, which changes no sum: no test */
           const PetscReal *Mr = &C->Mcell[PSCellIdx(C, x0 - PS_PAD - 1, n[1] - PS_PAD - 1, dim == 3 ? n[2] - PS_PAD - 1 : 0)];
-          PetscReal       *mr = &C->mcn[Lidx(ix, x0, n[1], n[2])];
+          PetscReal       *mr = &mcn[Lidx(ix, x0, n[1], n[2])];
           PetscInt         x;
           for (x = 0; x < x1 - x0; x++) {
             PetscReal sm = 0.0;
@@ -239,17 +241,17 @@ static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, 
               const PetscReal Mc = C->Mcell[PSCellIdx(C, c[0], c[1], c[2])];
               if (Mc != 0.0) mc += w * Mc;
             }
-        C->mcn[Lidx(ix, n[0], n[1], n[2])] = mc;
+        mcn[Lidx(ix, n[0], n[1], n[2])] = mc;
       }
     }
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
+PetscErrorCode PSCellsNodalMassGather(PSSolver *S, const PSIndex *ix, PetscReal *mcn, PetscInt n0, PetscInt n1)
 {
   PetscFunctionBeginUser;
-  if (S->dim == 2) PetscCall(NodalMassGatherDim(S, ix, 2));
-  else PetscCall(NodalMassGatherDim(S, ix, 3));
+  if (S->dim == 2) PetscCall(NodalMassGatherDim(S, ix, mcn, n0, n1, 2));
+  else PetscCall(NodalMassGatherDim(S, ix, mcn, n0, n1, 3));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -258,8 +260,10 @@ static PetscErrorCode NodalMassGather(PSSolver *S, const PSIndex *ix)
    Lagrangian phases; every change of the cells' masses ends here (the fit,
    insertion, restart, the remap's sweeps).  owned_set: the owned cells' M_c
    are already set (the remap's cell update), so only the ghost cells' (just
-   exchanged) are taken */
-PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix, PetscBool owned_set)
+   exchanged) are taken; the nodes' sums over the units [n0, n1) of nodes
+   along y (2D) or z (3D) alone (grid indices: the remap's sweep has summed
+   the others behind its cells' update) */
+PetscErrorCode PSCellsNodalMassUnits(PSSolver *S, const PSIndex *ix, PetscBool owned_set, PetscInt n0, PetscInt n1)
 {
   PSCells *C = S->cells;
   PetscInt i, j, k;
@@ -275,7 +279,14 @@ PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix, PetscBool owned_
         PSCellsCellMass(C, PSCellIdx(C, i, j, k));
       }
     }
-  PetscCall(NodalMassGather(S, ix));
+  PetscCall(PSCellsNodalMassGather(S, ix, C->mcn, n0, n1));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsNodalMass(PSSolver *S, const PSIndex *ix, PetscBool owned_set)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PSCellsNodalMassUnits(S, ix, owned_set, PETSC_MIN_INT, PETSC_MAX_INT));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 

@@ -446,6 +446,8 @@ PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);
 PETSC_INTERN PetscErrorCode PSCellsExchange(PSCells *);
 PETSC_INTERN PetscErrorCode PSCellsNodalMass(PSSolver *, const PSIndex *, PetscBool owned_set);
+PETSC_INTERN PetscErrorCode PSCellsNodalMassUnits(PSSolver *, const PSIndex *, PetscBool owned_set, PetscInt n0, PetscInt n1);
+PETSC_INTERN PetscErrorCode PSCellsNodalMassGather(PSSolver *, const PSIndex *, PetscReal *mcn, PetscInt n0, PetscInt n1);
 PETSC_INTERN PetscErrorCode PSCellsWrite(PSSolver *, PetscViewer, const char *const material_names[]);
 PETSC_INTERN PetscErrorCode PSCellsCheckpoint(PSSolver *, PetscViewer);
 PETSC_INTERN PetscErrorCode PSCellsRestart(PSSolver *, PetscViewer);

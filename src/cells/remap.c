@@ -38,7 +38,7 @@
 #include "cells.h"
 #include "plic.h"
 
-static PetscLogEvent EV_Remap = 0, EV_Prep, EV_Flux, EV_Halo, EV_KE;
+static PetscLogEvent EV_Remap = 0, EV_Prep, EV_Flux, EV_Halo, EV_KE, EV_KEBehind;
 
 #define PS_DISCARD 1e-6 /* volume fraction below which a cell material is discarded (booked) */
 
@@ -1174,21 +1174,198 @@ static inline void KEBounds(const PetscInt dim, PetscInt sd, PetscInt o, PetscBo
   }
 }
 
+/* the KE fix's progress through a sweep (SweepDim): in a scene whose nodes
+   along x (2D; x and y in 3D) are all this rank's, on a rank without a
+   neighbour below and a sweep without a free face along d (its outflow
+   books momentum into the same sums during the faces' pass), the KE fix of
+   each unit of nodes (a row in 2D, a plane in 3D) runs right behind the
+   cells' update (KEBehind), while the unit's nodes are in the caches, and
+   after the last sweep the heat of each unit of cells behind it; the units
+   left (next to a rank above: its ghost cells and nodes) run after the
+   halo.  Every unit, node and sum is the separate passes' own, in the same
+   order (the units in increasing order, after every outflow of the sweep) */
+typedef struct {
+  PetscBool fused;   /* the KE fix behind the cells' update */
+  PetscInt  node;    /* the next owned unit of nodes without its KE fix (grid index along y, z) */
+  PetscInt  cell;    /* the next unit of owned cells without its heat (after the last sweep) */
+  PetscReal lost[3]; /* S->lost_local.p, the same sums in registers */
+  PetscReal heat;    /* C->remap_heat, the same */
+} PSKEProgress;
+
+/* the KE fix of the owned nodes of unit r (grid index along y in 2D, z in
+   3D), row by row: their velocity kept within the range of each component
+   over the node and its neighbours along d before the sweep (VL, with the
+   masses before it, mco: a node the sweep nearly empties divides a
+   remainder of round-off size by a mass of round-off size; and without
+   mass no momentum), what is cut booked as lost; then the boundary
+   conditions (a wall takes the momentum into it).  After the last sweep,
+   with it, the kinetic energy carried through the remap's sweeps minus that
+   of the remapped momentum, d_i per owned node, into K (its own node's
+   value is read first), as d_i / (2^dim m_i), for the cells (HeatUnit).
+   (Once a step, not once a sweep: the sum over the sweeps of each one's d_i
+   is this d_i, as each sweep's kinetic energy before it is the one after
+   the sweep before; the heat is then not carried by the later sweeps, and
+   the cells' ghosts need no exchange between sweeps) */
+static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, PetscBool last, PetscInt r, const PetscReal *VL, const PetscReal *mcn, const PetscReal *mco, PetscReal lost[3])
+{
+  PSCells        *C = S->cells;
+  const PetscInt  d = sw->d, nv = C->nnl, x0 = ix->os[0], x1 = ix->os[0] + ix->om[0];
+  const PetscReal mass_min = S->mass_min;
+  PetscReal      *P = C->P, *K = C->sK, *dP = C->sdP;
+  PetscInt        i[3], x, q;
+
+  i[0] = x0; /* (along d = x the row's own tests: KEBounds) */
+  i[2] = dim == 3 ? r : 0;
+  for (i[1] = dim == 3 ? ix->os[1] : r; i[1] < (dim == 3 ? ix->os[1] + ix->om[1] : r + 1); i[1]++) {
+    const PetscInt orow = Lidx(ix, 0, i[1], i[2]); /* (node (x, i1, i2) is orow + x) */
+    PetscInt       xa = x0, xb = x1;
+    /* a row across d (d = y, z): its neighbours along d are in the local
+       array or not for the whole row; along d = x only the row's first and
+       last nodes can lack one, and take the test of their own (KEBounds) */
+    if (d == 0) {
+      xa = x0 + 1;
+      xb = PetscMax(x1 - 1, xa);
+      KEBounds(dim, sw->sd, orow + x0, x0 - 1 >= ix->gs[0], x0 + 1 < ix->gs[0] + ix->gm[0], mcn, mco, mass_min, VL, nv, P, &dP[0]);
+      if (x1 - 1 > x0) KEBounds(dim, sw->sd, orow + x1 - 1, x1 - 2 >= ix->gs[0], x1 < ix->gs[0] + ix->gm[0], mcn, mco, mass_min, VL, nv, P, &dP[dim * (x1 - 1 - x0)]);
+    }
+    {
+      const PetscBool inm = i[d] - 1 >= ix->gs[d] || d == 0, inp = i[d] + 1 < ix->gs[d] + ix->gm[d] || d == 0;
+#pragma GCC ivdep /* (P, dP, VL, mcn and mco are apart) */
+      for (x = xa; x < xb; x++) KEBounds(dim, sw->sd, orow + x, inm, inp, mcn, mco, mass_min, VL, nv, P, &dP[dim * (x - x0)]);
+    }
+    /* what was cut, in the order of the nodes (the same sums) */
+    for (x = x0; x < x1; x++)
+      for (q = 0; q < dim; q++) lost[q] += dP[dim * (x - x0) + q];
+    PSNodeBCRow(S, dim, orow, x0, x1, i[1], i[2], P); /* the boundary conditions */
+    /* d_i / (2^dim m_i), over the row */
+    if (last)
+      for (x = x0; x < x1; x++) {
+        const PetscInt  o  = orow + x;
+        const PetscReal mn = mcn[o], mv = mn > 0.0 ? mn : 1.0; /* (a divisor for every node: the row's loop without a branch) */
+        PetscReal       p2 = 0.0;
+        for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
+        const PetscReal dk = (K[o] - 0.5 * p2 / mv) / ((1 << dim) * mv);
+        K[o]               = mn > 0.0 ? dk : 0.0;
+      }
+  }
+}
+
+/* after the last sweep, the heat of the owned cells of unit c (y in 2D, z in
+   3D), whose corners hold d_i / (2^dim m_i) (KEUnit; the ghosts' from their
+   owners): each cell takes from each corner the share M_c / (2^dim m_i) of
+   d_i, the share it has in the node's mass (the sum over cells is the sum
+   over nodes), and each of its materials the share M_k / M_c of that; the
+   heat's sum into heat, in the cells' order */
+static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt c, PetscReal *heat_sum)
+{
+  PSCells         *C = S->cells;
+  const PetscInt   mst = C->mst, ms = C->ms, nm = C->nmat;
+  const PetscBool  lanes = ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (gas blocks) */
+  const PetscReal *Mcell = C->Mcell, *K = C->sK; /* after the sweep (CellUpdate; PSCellsNodalMass for the ghosts) */
+  const short     *sole = C->sole;
+  PetscReal       *U = C->u, heat = *heat_sum; /* (the same sum, in a register) */
+  PetscInt         off[8], i[3], a, m;
+
+  for (a = 0; a < (1 << dim); a++) off[a] = C->K.off[a];
+  i[2] = dim == 3 ? c : 0;
+  for (i[1] = dim == 3 ? C->cs[1] : c; i[1] < (dim == 3 ? C->ce[1] : c + 1); i[1]++) {
+    PetscInt ci0, o00;
+    PSCellsRow(C, ix, dim, i[1], i[2], &ci0, &o00, NULL, NULL); /* (cell x: ci0 + x, its lower corner node o00 + x) */
+    for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
+      const PetscInt ci = ci0 + i[0], o0 = o00 + i[0];
+      PetscReal     *u = &U[ms * ci], Mc = Mcell[ci], dE = 0.0;
+      PetscInt       m0, m1, b;
+      /* a run of cells of one gas s (with mass: M_c = M_s): their heat in
+         SIMD lanes, its sum in the cells' order after them */
+      if (lanes && sole[ci] >= 0) {
+        const PetscInt s = sole[ci];
+        b = i[0] + PSCellsSoleRun(&sole[ci], C->ce[0] - i[0]);
+        if (b - i[0] >= PS_LANES_RUN) {
+          const PetscInt   len = b - i[0];
+          PetscReal       *B   = &U[PS_CQ * ci + s * mst], *W = C->sW;
+          const PetscReal *Mr  = &Mcell[ci], *Kr = &K[o0];
+          PetscInt         x;
+#pragma GCC ivdep
+          for (x = 0; x < len; x++) {
+            PetscReal dEx = 0.0;
+#pragma GCC unroll 8
+            for (a = 0; a < (1 << dim); a++) dEx += Kr[x + off[a]];
+            B[PS_CQ * x + PS_CE] = B[PS_CQ * x + PS_CE] + dEx * B[PS_CQ * x + PS_CM];
+            W[x]                 = dEx * Mr[x];
+          }
+          for (x = 0; x < len; x++) heat += W[x];
+          i[0] = b - 1;
+          continue;
+        }
+      }
+      if (Mc <= 0.0) continue;
+      /* (a node without mass holds d_i = 0: above, and its owner's value
+         on the ghosts) */
+      for (a = 0; a < (1 << dim); a++) dE += K[o0 + off[a]]; /* per unit of the cell's mass */
+      PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* the materials present, as found after the sweep (PSCellsPresent) */
+      for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
+      heat += dE * Mc;
+    }
+  }
+  *heat_sum = heat;
+}
+
+/* the KE fix behind the cells' update (PSKEProgress), once the cells of
+   unit c (y in 2D, z in 3D) have theirs: the owned units of nodes through
+   c + PS_PAD, whose cells (units n - PS_PAD - 1 and n - PS_PAD) have all
+   given their dual fluxes and have their new masses, take their new nodal
+   masses (into mco, swapped in after the sweep) and their KE fix; after the
+   last sweep, the units of cells whose upper corners have theirs (a unit
+   past the nodes' is read by no face left) take their heat.  In 2D the rows
+   of nodes go in batches of PS_KE_BATCH: one at a time, the short runs over
+   the nodes' arrays took the 256^2 quadrants 3% longer than the separate
+   passes (docs/speed.md) */
+#define PS_KE_BATCH 8
+static inline PetscErrorCode KEBehind(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, PetscBool last, PetscInt c, const PetscReal *VL, PSKEProgress *kp)
+{
+  PSCells       *C = S->cells;
+  const PetscInt e = dim - 1, nl = PetscMin(c + PS_PAD, ix->os[e] + ix->om[e] - 1);
+
+  PetscFunctionBeginUser;
+  if (!kp->fused || nl - kp->node + 1 < (dim == 2 ? PS_KE_BATCH : 1)) PetscFunctionReturn(PETSC_SUCCESS); /* (the units left after the faces: below) */
+  PetscCall(PetscLogEventBegin(EV_KEBehind, 0, 0, 0, 0));
+  for (; kp->node <= nl; kp->node++) {
+    PetscCall(PSCellsNodalMassGather(S, ix, C->mco, kp->node, kp->node + 1));
+    KEUnit(S, ix, sw, dim, last, kp->node, VL, C->mco, C->mcn, kp->lost);
+  }
+  if (last)
+    for (; kp->cell < C->ce[e] && kp->cell + PS_PAD + 1 < kp->node; kp->cell++) HeatUnit(S, ix, dim, kp->cell, &kp->heat);
+  PetscCall(PetscLogEventEnd(EV_KEBehind, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 /* one sweep along d; dim a constant where it is called (Sweep picks 2D or
    3D), so the loops over a face's corners and a node's components unroll */
 static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, PetscBool first, PetscBool last, const PetscInt dim)
 {
   PSCells        *C = S->cells;
-  const PetscInt  mst = C->mst, ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
+  const PetscInt  ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
   PetscReal      *F, *K, *VL, *P = C->P;
   const PetscInt  nv = C->nnl; /* (VL's plane length) */
   const PetscBool lanes = ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (FractionsRun: gas blocks) */
   const PetscInt  nw = PetscMax(ix->gm[0], C->gm[0]); /* (the lanes' scratch C->sW: planes of nw) */
-  PetscInt       *R, lo[3], hi[3], i[3], e, m, q, ns;
+  PetscInt       *R, lo[3], hi[3], i[3], e, q, ns, r, c;
   PSSweepDirs     sw;
+  PSKEProgress    kp;
 
   PetscFunctionBeginUser;
   SweepDirs(C, ix, dim, d, &sw);
+  /* the KE fix behind the cells' update, where it can (PSKEProgress);
+   -run_lanes 1 keeps it to its own pass, for checks */
+  {
+    PetscBool across = PETSC_TRUE;
+    for (e = 0; e < dim - 1; e++) across = across && ix->gm[e] == ix->om[e] ? PETSC_TRUE : PETSC_FALSE;
+    kp.fused = S->run.lanes != 1 && across && ix->gs[dim - 1] == ix->os[dim - 1] && S->bc[d][0] != PS_BC_FREE && S->bc[d][1] != PS_BC_FREE ? PETSC_TRUE : PETSC_FALSE;
+    kp.node  = ix->os[dim - 1];
+    kp.cell  = C->cs[dim - 1];
+    for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (no outflow where fused: read now or after the faces, the same) */
+    kp.heat = C->remap_heat;
+  }
   /* faces along d of the cells around the owned nodes, [cs - 1, ce) in every
      direction (clipped to the domain), one more along d */
   for (e = 0; e < 3; e++) {
@@ -1251,15 +1428,18 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
        same arithmetic and sums, in the same order, as the slices' ring below */
     const PetscInt nf = hi[0] - lo[0];
     PetscInt       j[3];
-    for (j[2] = lo[2]; j[2] < hi[2]; j[2]++)
+    for (j[2] = lo[2]; j[2] < hi[2]; j[2]++) {
       for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
         j[0] = lo[0];
         FractionsUpTo(C, fr, d, lanes, nw, C->sW, j[dim - 1] + 1);
         FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, nf, R);
         CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[1], nf, R, &R[2], VL, P, K);
+        if (dim == 2) PetscCall(KEBehind(S, ix, &sw, dim, last, j[1], VL, &kp)); /* (the row of cells j[1] done) */
       }
+      if (dim == 3) PetscCall(KEBehind(S, ix, &sw, dim, last, j[2], VL, &kp)); /* (the plane j[2]) */
+    }
   } else {
-    PetscInt lead, ol[3], oh[3], c;
+    PetscInt lead, ol[3], oh[3];
     /* the indices across d that are outer to it in the loop nest: one pass of
        slices per plane (d = y in 3D), one in all (d = y in 2D, d = z) */
     for (e = 0; e < 3; e++) {
@@ -1295,8 +1475,10 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
                 j[0] = jl[0];
                 CellRun(S, ix, &sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ns, &Rl[2 * n], &Rh[2 * n], VL, P, K);
               }
+              if (d == dim - 1) PetscCall(KEBehind(S, ix, &sw, dim, last, c, VL, &kp)); /* (the slice c: a unit) */
             }
           }
+          if (dim == 3 && d == 1) PetscCall(KEBehind(S, ix, &sw, dim, last, i[2], VL, &kp)); /* (the plane i[2]) */
         }
   }
   FractionsUpTo(C, fr, d, lanes, nw, C->sW, fr->o[dim - 1] + fr->n[dim - 1]); /* (the rest: the box whole, as every sweep leaves it) */
@@ -1310,115 +1492,24 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     C->mco = C->mcn;
     C->mcn = t;
   }
-  PetscCall(PSCellsNodalMass(S, ix, PETSC_TRUE)); /* the owned cells' masses: CellUpdate; every local node's m^C_i */
+  /* the owned cells' masses: CellUpdate; every local node's m^C_i but the
+     units' the KE fix behind the cells has summed (none below it there) */
+  PetscCall(PSCellsNodalMassUnits(S, ix, PETSC_TRUE, kp.fused ? kp.node : PETSC_MIN_INT, PETSC_MAX_INT));
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_KE, 0, 0, 0, 0));
-  /* the new nodal momentum on the owned nodes: its velocity kept within the
-     range of each component over the node and its neighbours along d before
-     the sweep (VL, with the masses before it, mco: a node the sweep nearly
-     empties divides a remainder of round-off size by a mass of round-off
-     size; and without mass no momentum), what is cut booked as lost; then
-     the boundary conditions (a wall takes the momentum into it).  After the
-     last sweep, with it, the kinetic energy carried through the remap's
-     sweeps minus that of the remapped momentum, d_i per owned node, into K
-     (its own node's value is read first), as d_i / (2^dim m_i), for the
-     cells below.  (Once a step, not once a sweep: the sum over the sweeps
-     of each one's d_i is this d_i, as each sweep's kinetic energy before it
-     is the one after the sweep before; the heat is then not carried by the
-     later sweeps, and the cells' ghosts need no exchange between sweeps) */
-  {
-    const PetscReal *mcn = C->mcn, *mco = C->mco, mass_min = S->mass_min;
-    const PetscInt   x0 = ix->os[0], x1 = ix->os[0] + ix->om[0];
-    PetscReal        lost[3] = {S->lost_local.p[0], S->lost_local.p[1], S->lost_local.p[2]}; /* (the same sums, in registers) */
-    PetscReal       *dP      = C->sdP;
-    for (i[2] = ix->os[2]; i[2] < ix->os[2] + ix->om[2]; i[2]++)
-      for (i[1] = ix->os[1]; i[1] < ix->os[1] + ix->om[1]; i[1]++) {
-        const PetscInt  orow = Lidx(ix, 0, i[1], i[2]); /* (node (x, i1, i2) is orow + x) */
-        PetscInt        x, xa = x0, xb = x1;
-        /* a row across d (d = y, z): its neighbours along d are in the local
-           array or not for the whole row; along d = x only the row's first and
-           last nodes can lack one, and take the test of their own (KEBounds) */
-        if (d == 0) {
-          xa = x0 + 1;
-          xb = PetscMax(x1 - 1, xa);
-          KEBounds(dim, sw.sd, orow + x0, x0 - 1 >= ix->gs[0], x0 + 1 < ix->gs[0] + ix->gm[0], mcn, mco, mass_min, VL, nv, P, &dP[0]);
-          if (x1 - 1 > x0) KEBounds(dim, sw.sd, orow + x1 - 1, x1 - 2 >= ix->gs[0], x1 < ix->gs[0] + ix->gm[0], mcn, mco, mass_min, VL, nv, P, &dP[dim * (x1 - 1 - x0)]);
-        }
-        {
-          const PetscBool inm = i[d] - 1 >= ix->gs[d] || d == 0, inp = i[d] + 1 < ix->gs[d] + ix->gm[d] || d == 0;
-#pragma GCC ivdep /* (P, dP, VL, mcn and mco are apart) */
-          for (x = xa; x < xb; x++) KEBounds(dim, sw.sd, orow + x, inm, inp, mcn, mco, mass_min, VL, nv, P, &dP[dim * (x - x0)]);
-        }
-        /* what was cut, in the order of the nodes (the same sums) */
-        for (x = x0; x < x1; x++)
-          for (q = 0; q < dim; q++) lost[q] += dP[dim * (x - x0) + q];
-        PSNodeBCRow(S, dim, orow, x0, x1, i[1], i[2], P); /* the boundary conditions */
-        /* d_i / (2^dim m_i), over the row */
-        if (last)
-          for (x = x0; x < x1; x++) {
-            const PetscInt  o  = orow + x;
-            const PetscReal mn = mcn[o], mv = mn > 0.0 ? mn : 1.0; /* (a divisor for every node: the row's loop without a branch) */
-            PetscReal       p2 = 0.0;
-            for (q = 0; q < dim; q++) p2 += P[dim * o + q] * P[dim * o + q];
-            const PetscReal dk = (K[o] - 0.5 * p2 / mv) / ((1 << dim) * mv);
-            K[o]               = mn > 0.0 ? dk : 0.0;
-          }
-      }
-    for (q = 0; q < 3; q++) S->lost_local.p[q] = lost[q];
-  }
+  /* the KE fix of the owned units of nodes not done behind the cells
+     (KEUnit), in the same order, the sums continued */
+  if (!kp.fused)
+    for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (after the faces' outflow) */
+  for (r = kp.node; r < ix->os[dim - 1] + ix->om[dim - 1]; r++) KEUnit(S, ix, &sw, dim, last, r, VL, C->mcn, C->mco, kp.lost);
+  for (q = 0; q < 3; q++) S->lost_local.p[q] = kp.lost[q];
   PetscCall(PSHaloBcast(C->sfp, C->P));
-  /* after the last sweep, d_i to the ghosts; then each owned cell takes from
-     each corner the share M_c / (2^dim m_i) of d_i, the share it has in the
-     node's mass (the sum over cells is the sum over nodes), and each of its
-     materials the share M_k / M_c of that */
+  /* after the last sweep, d_i to the ghosts; then the heat of the owned
+     cells not done behind the KE fix (HeatUnit), in the same order */
   if (last) {
     PetscCall(PSHaloBcast(C->sfk, K));
-    const PetscReal *Mcell = C->Mcell; /* after the sweep (PSCellsNodalMass above) */
-    const short     *sole  = C->sole;
-    PetscReal       *U = C->u, heat = C->remap_heat; /* (the same sum, in a register) */
-    PetscInt         off[8], c;
-    for (c = 0; c < (1 << dim); c++) off[c] = C->K.off[c];
-    for (i[2] = C->cs[2]; i[2] < C->ce[2]; i[2]++)
-      for (i[1] = C->cs[1]; i[1] < C->ce[1]; i[1]++) {
-        PetscInt ci0, o00;
-        PSCellsRow(C, ix, dim, i[1], i[2], &ci0, &o00, NULL, NULL); /* (cell x: ci0 + x, its lower corner node o00 + x) */
-        for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
-          const PetscInt ci = ci0 + i[0], o0 = o00 + i[0];
-          PetscReal     *u = &U[ms * ci], Mc = Mcell[ci], dE = 0.0;
-          PetscInt       m0, m1, b;
-          /* a run of cells of one gas s (with mass: M_c = M_s): their heat in
-             SIMD lanes, its sum in the cells' order after them */
-          if (lanes && sole[ci] >= 0) {
-            const PetscInt s = sole[ci];
-            b = i[0] + PSCellsSoleRun(&sole[ci], C->ce[0] - i[0]);
-            if (b - i[0] >= PS_LANES_RUN) {
-              const PetscInt   len = b - i[0];
-              PetscReal       *B   = &U[PS_CQ * ci + s * mst], *W = C->sW;
-              const PetscReal *Mr  = &Mcell[ci], *Kr = &K[o0];
-              PetscInt         x;
-#pragma GCC ivdep
-              for (x = 0; x < len; x++) {
-                PetscReal dEx = 0.0;
-#pragma GCC unroll 8
-                for (c = 0; c < (1 << dim); c++) dEx += Kr[x + off[c]];
-                B[PS_CQ * x + PS_CE] = B[PS_CQ * x + PS_CE] + dEx * B[PS_CQ * x + PS_CM];
-                W[x]                 = dEx * Mr[x];
-              }
-              for (x = 0; x < len; x++) heat += W[x];
-              i[0] = b - 1;
-              continue;
-            }
-          }
-          if (Mc <= 0.0) continue;
-          /* (a node without mass holds d_i = 0: above, and its owner's value
-             on the ghosts) */
-          for (c = 0; c < (1 << dim); c++) dE += K[o0 + off[c]]; /* per unit of the cell's mass */
-          PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* the materials present, as found after the sweep (PSCellsPresent) */
-          for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
-          heat += dE * Mc;
-        }
-      }
-    C->remap_heat = heat;
+    for (c = kp.cell; c < C->ce[dim - 1]; c++) HeatUnit(S, ix, dim, c, &kp.heat);
+    C->remap_heat = kp.heat;
   }
 
   PetscCall(PetscLogEventEnd(EV_KE, 0, 0, 0, 0));
@@ -1448,6 +1539,7 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
     PetscCall(PetscLogEventRegister("PSCellsFlux", 0, &EV_Flux));
     PetscCall(PetscLogEventRegister("PSCellsHalo", 0, &EV_Halo));
     PetscCall(PetscLogEventRegister("PSCellsKE", 0, &EV_KE));
+    PetscCall(PetscLogEventRegister("PSCellsKEBehind", 0, &EV_KEBehind)); /* (inside PSCellsFlux) */
   }
   PetscCall(PetscLogEventBegin(EV_Remap, 0, 0, 0, 0));
   /* ghosts of the Lagrangian state (volumes, energies) and momentum */
