@@ -80,6 +80,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
     C->gam[k]           = M->gamma;
   }
   C->dof       = C->nmat * C->ms + PS_CX_N;
+  C->over      = -1; /* (not counted: the fit tests every cell) */
   C->hourglass = 0.1;
   PetscCall(PetscMalloc1(scene->nmaterial, &C->Kmat));
   for (k = 0; k < scene->nmaterial; k++) {

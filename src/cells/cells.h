@@ -146,6 +146,7 @@ typedef struct PSCells_ {
   PetscReal remap_heat;           /* this rank: kinetic energy the remap put into internal energy (J) */
   PetscReal coupling_work;        /* this rank: work of fitting cell materials around the markers (J) */
   PetscReal discarded;            /* this rank: mass of traces discarded by the remap (kg; booked in lost_mass) */
+  PetscInt  over;                 /* in a scene without marker bodies: the owned cells whose materials' volume exceeds the cell's (the fit's test, PSCellsFitMarkers), counted by the remap's heat after its last sweep; -1: not counted */
   PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
   PSLagProgress lag;              /* the Lagrangian phase's progress through the step (lagrange.c) */
   PetscReal sat[7];               /* the cell that sets it: centre x (m, 3), c, |v|, viscous term (m/s), density (kg/m^3) */

@@ -373,8 +373,14 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
   PetscInt  i, j, k, m, nfit = 0;
   PetscReal *dep = C->dep;
   PSIndex   ix;
+  PetscBool none;
 
   PetscFunctionBeginUser;
+  /* in a scene without marker bodies the remap's heat has counted the cells
+     the fit's test finds over their room (C->over, HeatUnit): where none,
+     the loop below is skipped */
+  none    = fit && !C->markers && C->over == 0 ? PETSC_TRUE : PETSC_FALSE;
+  C->over = -1;
   if (C->markers || !fit) PetscCall(DepositMarkers(S));
   /* dep now takes each cell's discarded mass (kg), for its nodes' momentum
      (zeroed only where something wrote it: without markers nearly never) */
@@ -384,7 +390,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
   /* fit: the cell materials compressed where they overflow the room beside
      the markers (not at insertion, which is exact: the boxes only
      approximate pieces cut at a body's edge) */
-  for (k = C->cs[2]; k < (fit ? C->ce[2] : C->cs[2]); k++)
+  for (k = C->cs[2]; k < (fit && !none ? C->ce[2] : C->cs[2]); k++)
     for (j = C->cs[1]; j < C->ce[1]; j++) {
       /* (the test of every cell in locals: the row's first index, the
          markers' share's plane, the cell volume) */

@@ -1255,7 +1255,12 @@ static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw,
    owners): each cell takes from each corner the share M_c / (2^dim m_i) of
    d_i, the share it has in the node's mass (the sum over cells is the sum
    over nodes), and each of its materials the share M_k / M_c of that; the
-   heat's sum into heat, in the cells' order */
+   heat's sum into heat, in the cells' order.  In a scene without marker
+   bodies, the cells whose materials' volume exceeds the cell's by more
+   than 1e-12 of it (the fit's test, PSCellsFitMarkers: nothing between
+   here and the fit changes a volume, and without markers each cell's room
+   is the cell) are counted into C->over, so that the fit need not read
+   the state again to find none (nearly always) */
 static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt c, PetscReal *heat_sum)
 {
   PSCells         *C = S->cells;
@@ -1264,7 +1269,8 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
   const PetscReal *Mcell = C->Mcell, *K = C->sK; /* after the sweep (CellUpdate; PSCellsNodalMass for the ghosts) */
   const short     *sole = C->sole;
   PetscReal       *U = C->u, heat = *heat_sum; /* (the same sum, in a register) */
-  PetscInt         off[8], i[3], a, m;
+  const PetscReal  Vc = C->Vc, tol = 1e-12 * C->Vc; /* (the fit's test, with no markers' share: the room is Vc 1.0) */
+  PetscInt         off[8], i[3], a, m, over = 0;
 
   for (a = 0; a < (1 << dim); a++) off[a] = C->K.off[a];
   i[2] = dim == 3 ? c : 0;
@@ -1292,6 +1298,7 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
             for (a = 0; a < (1 << dim); a++) dEx += Kr[x + off[a]];
             B[PS_CQ * x + PS_CE] = B[PS_CQ * x + PS_CE] + dEx * B[PS_CQ * x + PS_CM];
             W[x]                 = dEx * Mr[x];
+            over += (0.0 + B[PS_CQ * x + PS_CV]) - Vc * 1.0 > tol; /* (s has mass: it is the cell's sole; the fit's lanes' test) */
           }
           for (x = 0; x < len; x++) heat += W[x];
           i[0] = b - 1;
@@ -1305,9 +1312,16 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
       PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* the materials present, as found after the sweep (PSCellsPresent) */
       for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
       heat += dE * Mc;
+      {
+        PetscReal Vm = 0.0;
+        for (m = m0; m < m1; m++)
+          if (u[m * mst + PS_CM] > 0.0) Vm += u[m * mst + PS_CV];
+        over += !(Vm - Vc * 1.0 <= tol); /* (the fit's test of one cell) */
+      }
     }
   }
   *heat_sum = heat;
+  if (C->over >= 0) C->over += over;
 }
 
 /* the KE fix behind the cells' update (PSKEProgress), once the cells of
@@ -1366,6 +1380,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (no outflow where fused: read now or after the faces, the same) */
     kp.heat = C->remap_heat;
   }
+  if (last) C->over = !C->markers && S->run.lanes != 1 ? 0 : -1; /* (HeatUnit; -run_lanes 1: the fit's own pass, for checks) */
   /* faces along d of the cells around the owned nodes, [cs - 1, ce) in every
      direction (clipped to the domain), one more along d */
   for (e = 0; e < 3; e++) {
