@@ -188,10 +188,10 @@ PetscErrorCode PSCellsExchange(PSCells *C)
 /* m^C_i = sum_c M_c / 2^dim over the cells around each local node (ghost
    nodes included where their cells are in the ghosted box), from C->Mcell:
    each node sums its cells in the order of the cell array (z, y, x) (a cell
-   without mass adds nothing), into mc; the nodes whose index along y (2D) or
-   z (3D) lies in [n0, n1) alone (PSCellsNodalMassUnits); dim a constant
-   where it is called (NodalMassGather picks 2D or 3D), so the loop over a
-   node's cells unrolls */
+   without mass adds nothing), into mcn; the nodes whose index along y (2D)
+   or z (3D) lies in [n0, n1) alone (PSCellsNodalMassUnits, the remap's
+   KEBehind); dim a constant where it is called (PSCellsNodalMassGather
+   picks 2D or 3D), so the loop over a node's cells unrolls */
 static inline PetscErrorCode NodalMassGatherDim(PSSolver *S, const PSIndex *ix, PetscReal *mcn, PetscInt n0, PetscInt n1, const PetscInt dim)
 {
   PSCells        *C   = S->cells;

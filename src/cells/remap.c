@@ -1266,7 +1266,7 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
   PSCells         *C = S->cells;
   const PetscInt   mst = C->mst, ms = C->ms, nm = C->nmat;
   const PetscBool  lanes = ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (gas blocks) */
-  const PetscReal *Mcell = C->Mcell, *K = C->sK; /* after the sweep (CellUpdate; PSCellsNodalMass for the ghosts) */
+  const PetscReal *Mcell = C->Mcell, *K = C->sK; /* after the sweep (CellUpdate; PSCellsNodalMassUnits for the ghosts) */
   const short     *sole = C->sole;
   PetscReal       *U = C->u, heat = *heat_sum; /* (the same sum, in a register) */
   const PetscReal  Vc = C->Vc, tol = 1e-12 * C->Vc; /* (the fit's test, with no markers' share: the room is Vc 1.0) */
