@@ -1212,6 +1212,7 @@ static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw,
   const PetscInt  d = sw->d, nv = C->nnl, x0 = ix->os[0], x1 = ix->os[0] + ix->om[0];
   const PetscReal mass_min = S->mass_min;
   PetscReal      *P = C->P, *K = C->sK, *dP = C->sdP;
+  PetscReal       cut[3] = {lost[0], lost[1], lost[2]}; /* (the same sums, in registers: lost could alias the arrays) */
   PetscInt        i[3], x, q;
 
   i[0] = x0; /* (along d = x the row's own tests: KEBounds) */
@@ -1235,7 +1236,7 @@ static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw,
     }
     /* what was cut, in the order of the nodes (the same sums) */
     for (x = x0; x < x1; x++)
-      for (q = 0; q < dim; q++) lost[q] += dP[dim * (x - x0) + q];
+      for (q = 0; q < dim; q++) cut[q] += dP[dim * (x - x0) + q];
     PSNodeBCRow(S, dim, orow, x0, x1, i[1], i[2], P); /* the boundary conditions */
     /* d_i / (2^dim m_i), over the row */
     if (last)
@@ -1248,6 +1249,7 @@ static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw,
         K[o]               = mn > 0.0 ? dk : 0.0;
       }
   }
+  for (q = 0; q < 3; q++) lost[q] = cut[q];
 }
 
 /* after the last sweep, the heat of the owned cells of unit c (y in 2D, z in
