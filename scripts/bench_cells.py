@@ -140,9 +140,10 @@ if comm.getRank() == 0:
 # they can, lies inside PSCellsFlux: the remap's rows take its time from the
 # one and give it to the other).  Each phase: its label, its BENCH key's
 # event, and the events whose times it adds and subtracts
-phases = [(label, ev, [ev], []) for label, ev in CELL_PHASES + [("remap", "PSCellsRemap"), ("nodal velocities", "PSCellsPrep"), ("halo+masses", "PSCellsHalo")]]
-phases[-1:-1] = [("fractions+faces+cells", "PSCellsFlux", ["PSCellsFlux"], ["PSCellsKEBehind"])]
-phases.append(("KE fix", "PSCellsKE", ["PSCellsKE", "PSCellsKEBehind"], []))
+phases = [(label, ev, [ev], []) for label, ev in CELL_PHASES + [("remap", "PSCellsRemap"), ("nodal velocities", "PSCellsPrep")]]
+phases += [("fractions+faces+cells", "PSCellsFlux", ["PSCellsFlux"], ["PSCellsKEBehind"]),
+           ("halo+masses", "PSCellsHalo", ["PSCellsHalo"], []),
+           ("KE fix", "PSCellsKE", ["PSCellsKE", "PSCellsKEBehind"], [])]
 nstep = max(PETSc.Log.Event("PSCellsRemap").getPerfInfo()["count"], 1)
 parts = []
 for label, ev, plus, minus in phases:
