@@ -251,6 +251,39 @@ static inline void PSCellsPresent(const PSCells *C, PetscInt ci, PetscInt *m0, P
   PSCellsSoleRange(C->sole[ci], C->nmat, m0, m1);
 }
 
+/* the fit's test (PSCellsFitMarkers), which the remap's heat makes for it in
+   a scene without marker bodies (C->over): a cell is over its room (m^3,
+   the cell's volume Vc less the markers') where the volume of its materials
+   with mass, Vm, exceeds it by more than PS_FIT_TOL of Vc; a run of one gas
+   tests the gas's volume in SIMD lanes */
+#define PS_FIT_TOL 1e-12
+static inline PetscBool PSCellsOverRoom(PetscReal Vm, PetscReal room, PetscReal Vc)
+{
+  return !(Vm - room <= PS_FIT_TOL * Vc) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* the volume of the materials [m0, m1) of the cell block u that have mass (m^3) */
+static inline PetscReal PSCellsVolumeWithMass(const PSCells *C, const PetscReal *u, PetscInt m0, PetscInt m1)
+{
+  PetscReal Vm = 0.0;
+  PetscInt  m;
+  for (m = m0; m < m1; m++)
+    if (u[m * C->mst + PS_CM] > 0.0) Vm += u[m * C->mst + PS_CV];
+  return Vm;
+}
+
+/* whether the ranks' nodes across y (2D) or x and y (3D) are all this
+   rank's own (no ghost nodes across the units of rows or planes): where the
+   cells' phases can run one unit behind another (PSLagProgress, the remap's
+   PSKEProgress) */
+static inline PetscBool PSCellsWholeAcross(const PSIndex *ix, PetscInt dim)
+{
+  PetscInt d;
+  for (d = 0; d < dim - 1; d++)
+    if (ix->gm[d] != ix->om[d]) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
 /* The material slots of cell n (PSCellsXIdx), for the materials present
    [m0, m1) (PSCellsPresent) only, set once per step by the EOS cache
    (closure.c): its EOS values for material m at PS_EC m, and its half-step

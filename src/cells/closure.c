@@ -414,7 +414,7 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
 #pragma GCC ivdep
             for (x = 0; x < b - i; x++) {
               const PetscReal Vx = 0.0 + B[PS_CQ * x + PS_CV]; /* (s has mass: it is the cell's sole) */
-              nover += Vx - Vc * PetscMax(1.0 - XAr[x], 0.0) > 1e-12 * Vc;
+              nover += PSCellsOverRoom(Vx, Vc * PetscMax(1.0 - XAr[x], 0.0), Vc);
             }
             if (!nover) {
               i = b - 1;
@@ -423,10 +423,9 @@ PetscErrorCode PSCellsFitMarkers(PSSolver *S, PetscBool fit)
           }
         }
         PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* (PSCellsPresent; the others hold no mass) */
-        for (m = m0; m < m1; m++)
-          if (u[m * mst + PS_CM] > 0.0) Vm += u[m * mst + PS_CV];
+        Vm   = PSCellsVolumeWithMass(C, u, m0, m1);
         over = Vm - room;
-        if (over <= 1e-12 * Vc) continue; /* room enough (nearly every cell): no EOS needed */
+        if (!PSCellsOverRoom(Vm, room, Vc)) continue; /* room enough (nearly every cell): no EOS needed */
         nfit++;
         for (m = 0; m < nm; m++) {
           chi[m] = 0.0;

@@ -902,9 +902,7 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
      rank without ghost nodes across the units (PSLagProgress); -run_lanes 1
      keeps it to its own pass, for checks */
   {
-    PetscBool across = PETSC_TRUE;
-    for (d = 0; d < dim - 1; d++) across = across && ix->gm[d] == ix->om[d] ? PETSC_TRUE : PETSC_FALSE;
-    C->lag.fused = !C->markers && !S->contact && lanes && across ? PETSC_TRUE : PETSC_FALSE;
+    C->lag.fused = !C->markers && !S->contact && lanes && PSCellsWholeAcross(ix, dim) ? PETSC_TRUE : PETSC_FALSE;
     C->lag.next  = C->cs[dim - 1];
     C->lag.nb    = ix->os[dim - 1] - ix->gs[dim - 1];
     C->lag.nb0   = C->lag.nb;

@@ -1271,7 +1271,7 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
   const PetscReal *Mcell = C->Mcell, *K = C->sK; /* after the sweep (CellUpdate; PSCellsNodalMassUnits for the ghosts) */
   const short     *sole = C->sole;
   PetscReal       *U = C->u, heat = *heat_sum; /* (the same sum, in a register) */
-  const PetscReal  Vc = C->Vc, tol = 1e-12 * C->Vc; /* (the fit's test, with no markers' share: the room is Vc 1.0) */
+  const PetscReal  Vc = C->Vc; /* (the fit's test, without markers: the room is Vc 1.0, as the fit computes it) */
   PetscInt         off[8], i[3], a, m, over = 0;
 
   for (a = 0; a < (1 << dim); a++) off[a] = C->K.off[a];
@@ -1300,7 +1300,7 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
             for (a = 0; a < (1 << dim); a++) dEx += Kr[x + off[a]];
             B[PS_CQ * x + PS_CE] = B[PS_CQ * x + PS_CE] + dEx * B[PS_CQ * x + PS_CM];
             W[x]                 = dEx * Mr[x];
-            over += (0.0 + B[PS_CQ * x + PS_CV]) - Vc * 1.0 > tol; /* (s has mass: it is the cell's sole; the fit's lanes' test) */
+            over += PSCellsOverRoom(0.0 + B[PS_CQ * x + PS_CV], Vc * 1.0, Vc); /* (s has mass: it is the cell's sole; the fit's lanes' test) */
           }
           for (x = 0; x < len; x++) heat += W[x];
           i[0] = b - 1;
@@ -1314,12 +1314,7 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
       PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* the materials present, as found after the sweep (PSCellsPresent) */
       for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
       heat += dE * Mc;
-      {
-        PetscReal Vm = 0.0;
-        for (m = m0; m < m1; m++)
-          if (u[m * mst + PS_CM] > 0.0) Vm += u[m * mst + PS_CV];
-        over += !(Vm - Vc * 1.0 <= tol); /* (the fit's test of one cell) */
-      }
+      over += PSCellsOverRoom(PSCellsVolumeWithMass(C, u, m0, m1), Vc * 1.0, Vc); /* (the fit's test of one cell) */
     }
   }
   *heat_sum = heat;
@@ -1374,9 +1369,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   /* the KE fix behind the cells' update, where it can (PSKEProgress);
    -run_lanes 1 keeps it to its own pass, for checks */
   {
-    PetscBool across = PETSC_TRUE;
-    for (e = 0; e < dim - 1; e++) across = across && ix->gm[e] == ix->om[e] ? PETSC_TRUE : PETSC_FALSE;
-    kp.fused = S->run.lanes != 1 && across && ix->gs[dim - 1] == ix->os[dim - 1] && S->bc[d][0] != PS_BC_FREE && S->bc[d][1] != PS_BC_FREE ? PETSC_TRUE : PETSC_FALSE;
+    kp.fused = S->run.lanes != 1 && PSCellsWholeAcross(ix, dim) && ix->gs[dim - 1] == ix->os[dim - 1] && S->bc[d][0] != PS_BC_FREE && S->bc[d][1] != PS_BC_FREE ? PETSC_TRUE : PETSC_FALSE;
     kp.node  = ix->os[dim - 1];
     kp.cell  = C->cs[dim - 1];
     for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (no outflow where fused: read now or after the faces, the same) */
