@@ -441,7 +441,8 @@ def gases_and_a_disk(dim, disk=None, still=False, tall=False):
     in air at rest), between walls.  tall: the scene with its axes in the
     reverse order (longest along y in 2D, z in 3D), so that two ranks split
     it along y (z), across the units of cells the Lagrangian phase runs
-    behind the predictor (PSLagProgress), not along x."""
+    behind the predictor (PSLagProgress) and of nodes the remap's KE fix
+    runs behind each sweep's cells (PSKEProgress), not along x."""
     disk = dim == 2 if disk is None else disk
     h = 1e-3
     n = [40, 24] if dim == 2 else [14, 12, 10]
@@ -502,7 +503,8 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim, transfer, tall):
     grid holds momentum, the cells' force entering as dt f).  tall: the
     ranks split the scene along y (z), so that each runs some units of the
     Lagrangian phase behind the predictor and the others after the grid's
-    halo (one rank runs all but its last behind it)."""
+    halo (one rank runs all but its last behind it), and the lower rank
+    runs the remap's KE fix behind each sweep's cells."""
     from petsc4py import PETSc
     scene = gases_and_a_disk(dim, tall=tall)
     if tall:
@@ -537,7 +539,9 @@ def test_cell_lanes_are_bitwise_the_scalar_loops(dim, disk, still, tall):
     the remap's DualFluxLanes and DualFluxNodes) with the
     scalar loops' arithmetic in their order; -run_lanes 1 sends every cell
     through the scalar loops, and runs the Lagrangian phase as a pass of its
-    own, not a unit behind the predictor's (a scene of cells alone); so do the remap's FaceRunLanes, FractionsRun,
+    own, not a unit behind the predictor's (a scene of cells alone), the
+    remap's KE fix as a pass of its own after each sweep, not behind its
+    cells, and the fit's test in the fit, not in the remap's heat; so do the remap's FaceRunLanes, FractionsRun,
     CellUpdateLanes and heat runs, and the EOS cache's EOSGasRun.  The scene
     of the ranks' test (gases, a charge expanding in moving air; with a disk
     with strength, which keeps the P2G to its scalar loop, and without; and
