@@ -503,8 +503,9 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim, transfer, tall):
     grid holds momentum, the cells' force entering as dt f).  tall: the
     ranks split the scene along y (z), so that each runs some units of the
     Lagrangian phase behind the predictor and the others after the grid's
-    halo (one rank runs all but its last behind it), and the lower rank
-    runs the remap's KE fix behind each sweep's cells."""
+    halo (one rank runs all but its last behind it), and both ranks run
+    the remap's KE fix behind each sweep's cells (the upper one from its
+    second unit of nodes: its first has the lower rank's cells below)."""
     from petsc4py import PETSc
     scene = gases_and_a_disk(dim, tall=tall)
     if tall:

@@ -1174,20 +1174,27 @@ static inline void KEBounds(const PetscInt dim, PetscInt sd, PetscInt o, PetscBo
   }
 }
 
-/* the KE fix's progress through a sweep (SweepDim): in a scene whose nodes
-   along x (2D; x and y in 3D) are all this rank's, on a rank without a
-   neighbour below and a sweep without a free face along d (its outflow
-   books momentum into the same sums during the faces' pass), the KE fix of
-   each unit of nodes (a row in 2D, a plane in 3D) runs right behind the
-   cells' update (KEBehind), while the unit's nodes are in the caches, and
-   after the last sweep the heat of each unit of cells behind it; the units
-   left (next to a rank above: its ghost cells and nodes) run after the
-   halo.  Every unit, node and sum is the separate passes' own, in the same
-   order (the units in increasing order, after every outflow of the sweep) */
+/* the KE fix's progress through a sweep (SweepDim): on a rank whose nodes
+   along x (2D; x and y in 3D) are all its own, in a sweep without a free
+   face along d (its outflow books momentum into the same sums during the
+   faces' pass), the KE fix of each unit of nodes (a row in 2D, a plane in
+   3D) runs right behind the cells' update (KEBehind), while the unit's
+   nodes are in the caches, and after the last sweep the heat of each unit
+   of cells behind it; the units left (next to a rank above: its ghost
+   cells and nodes; next to a rank below: the unit whose cells below are
+   that rank's, and its cells) run after the halo.  Every unit and node is
+   the separate passes' own; the books' sums (what is cut, the heat) run in
+   the units' order, from node0 (cell0) up, then the units below them, in
+   that order fused or not (so on a rank without a neighbour below, the
+   units in increasing order).  Until the thirty-ninth session a rank with
+   a neighbour below kept the separate passes; fused, two ranks splitting
+   the 512^2 quadrants along y run 1.10x faster (docs/speed.md) */
 typedef struct {
   PetscBool fused;   /* the KE fix behind the cells' update */
-  PetscInt  node;    /* the next owned unit of nodes without its KE fix (grid index along y, z) */
-  PetscInt  cell;    /* the next unit of owned cells without its heat (after the last sweep) */
+  PetscInt  node0;   /* the first owned unit of nodes whose cells on both sides are owned (grid index along y, z; the rank's first without a neighbour below) */
+  PetscInt  cell0;   /* the first unit of owned cells whose lower corners are in unit node0 or above */
+  PetscInt  node;    /* the next owned unit of nodes without its KE fix (from node0) */
+  PetscInt  cell;    /* the next unit of owned cells without its heat (after the last sweep; from cell0) */
   PetscReal lost[3]; /* S->lost_local.p, the same sums in registers */
   PetscReal heat;    /* C->remap_heat, the same */
 } PSKEProgress;
@@ -1369,9 +1376,18 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   /* the KE fix behind the cells' update, where it can (PSKEProgress);
    -run_lanes 1 keeps it to its own pass, for checks */
   {
-    kp.fused = S->run.lanes != 1 && PSCellsWholeAcross(ix, dim) && ix->gs[dim - 1] == ix->os[dim - 1] && S->bc[d][0] != PS_BC_FREE && S->bc[d][1] != PS_BC_FREE ? PETSC_TRUE : PETSC_FALSE;
-    kp.node  = ix->os[dim - 1];
-    kp.cell  = C->cs[dim - 1];
+    const PetscInt e0 = dim - 1, nend = ix->os[e0] + ix->om[e0];
+    kp.fused = S->run.lanes != 1 && PSCellsWholeAcross(ix, dim) && S->bc[d][0] != PS_BC_FREE && S->bc[d][1] != PS_BC_FREE ? PETSC_TRUE : PETSC_FALSE;
+    /* on a rank with a neighbour below, the units of nodes from the first
+       whose cells on both sides are owned (physical node n - PS_PAD has
+       cells n - PS_PAD - 1 and n - PS_PAD), and the cells whose corners are
+       among them; the units below them (their cells' ghosts) come after the
+       halo, after the others (in that order fused or not: the books' sums
+       the same both ways) */
+    kp.node0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(ix->os[e0], C->cs[e0] + PS_PAD + 1), nend) : ix->os[e0];
+    kp.cell0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(C->cs[e0], kp.node0 - PS_PAD), C->ce[e0]) : C->cs[e0];
+    kp.node  = kp.node0;
+    kp.cell  = kp.cell0;
     for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (no outflow where fused: read now or after the faces, the same) */
     kp.heat = C->remap_heat;
   }
@@ -1505,6 +1521,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   /* the owned cells' masses: CellUpdate; every local node's m^C_i but the
      units' the KE fix behind the cells has summed (none below it there) */
   PetscCall(PSCellsNodalMassUnits(S, ix, PETSC_TRUE, kp.fused ? kp.node : PETSC_MIN_INT, PETSC_MAX_INT));
+  if (kp.fused && kp.node0 > ix->os[dim - 1]) PetscCall(PSCellsNodalMassGather(S, ix, C->mcn, PETSC_MIN_INT, kp.node0)); /* (the units below the fused ones) */
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_KE, 0, 0, 0, 0));
   /* the KE fix of the owned units of nodes not done behind the cells
@@ -1512,6 +1529,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   if (!kp.fused)
     for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (after the faces' outflow) */
   for (r = kp.node; r < ix->os[dim - 1] + ix->om[dim - 1]; r++) KEUnit(S, ix, &sw, dim, last, r, VL, C->mcn, C->mco, kp.lost);
+  for (r = ix->os[dim - 1]; r < kp.node0; r++) KEUnit(S, ix, &sw, dim, last, r, VL, C->mcn, C->mco, kp.lost); /* (next to a rank below) */
   for (q = 0; q < 3; q++) S->lost_local.p[q] = kp.lost[q];
   PetscCall(PSHaloBcast(C->sfp, C->P));
   /* after the last sweep, d_i to the ghosts; then the heat of the owned
@@ -1519,6 +1537,7 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   if (last) {
     PetscCall(PSHaloBcast(C->sfk, K));
     for (c = kp.cell; c < C->ce[dim - 1]; c++) HeatUnit(S, ix, dim, c, &kp.heat);
+    for (c = C->cs[dim - 1]; c < kp.cell0; c++) HeatUnit(S, ix, dim, c, &kp.heat); /* (next to a rank below) */
     C->remap_heat = kp.heat;
   }
 
