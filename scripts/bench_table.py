@@ -19,7 +19,10 @@ PYCLAW_ROW = re.compile(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+(\d+
 # the cells' Lagrangian phases by their log events, as bench_cells.py prints
 # them (a scene of cells alone runs the Lagrangian phase a unit behind the
 # predictor, inside its event; PSCellsLagrange keeps the units after the halo)
-CELL_PHASES = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor+Lagrange", "PSCellsPredict"), ("Lagrange's rest", "PSCellsLagrange")]
+# (on one rank a scene of cells alone runs the first three as one pipeline of
+# units, PSCellsPipeline: their events read 0 there, the pipeline's the sum)
+CELL_PHASES = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor+Lagrange", "PSCellsPredict"), ("Lagrange's rest", "PSCellsLagrange"),
+               ("pipelined P2G+grid+predictor+Lagrange", "PSCellsPipeline")]
 R3D = 1.4e6                         # r3d: a box clipped by a slab, first moments, pieces/s/core (quoted)
 KARAMELO = {1: 0.50e6, 2: 0.87e6}   # Karamelo's copper Taylor bar, marker-steps/s on 1 and 2 ranks (quoted)
 

@@ -135,12 +135,14 @@ static inline __attribute__((always_inline)) void GridUpdateMUSLNode(const PSSol
 /* (a row inside the domain takes the boundary conditions at its ends alone:
    PSNodeBCDim leaves the others, and its test per node was 0.6% of the
    cells' quadrants' instructions) */
-static inline void GridUpdateMUSLDim(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscReal *g, const PetscInt dim)
+static inline void GridUpdateMUSLDim(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscReal *g, const PetscInt dim, PetscInt u0, PetscInt u1)
 {
   const PetscInt dof = PSGridDof(S), pad = S->pad;
   PetscInt       a, b, c, lo[3], hi[3];
 
   Clip(S->zbox, ix->os, ix->om, lo, hi);
+  lo[dim - 1] = PetscMax(lo[dim - 1], u0);
+  hi[dim - 1] = PetscMin(hi[dim - 1], u1);
   for (c = lo[2]; c < hi[2]; c++)
     for (b = lo[1]; b < hi[1]; b++) {
       PetscInt xa, xb, ip[3] = {0, b - pad, dim == 3 ? c - pad : 0};
@@ -160,8 +162,15 @@ static inline void GridUpdateMUSLDim(const PSSolver *S, const PSIndex *ix, Petsc
 /* (dim a constant in the node loop, so it unrolls) */
 void PSGridUpdateMUSL(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscReal *g)
 {
-  if (S->dim == 2) GridUpdateMUSLDim(S, ix, dt, g, 2);
-  else GridUpdateMUSLDim(S, ix, dt, g, 3);
+  PSGridUpdateMUSLUnits(S, ix, dt, g, PETSC_MIN_INT, PETSC_MAX_INT);
+}
+
+/* PSGridUpdateMUSL on the nodes of grid index [u0, u1) along y (2D) or z
+   (3D) alone (the cells' Lagrangian pipeline, a unit at a time) */
+void PSGridUpdateMUSLUnits(const PSSolver *S, const PSIndex *ix, PetscReal dt, PetscReal *g, PetscInt u0, PetscInt u1)
+{
+  if (S->dim == 2) GridUpdateMUSLDim(S, ix, dt, g, 2, u0, u1);
+  else GridUpdateMUSLDim(S, ix, dt, g, 3, u0, u1);
 }
 
 /* a[a_s o + d] += b[b_s o + d] on the owned nodes of the active box */

@@ -166,7 +166,7 @@ typedef struct {
   PetscInt    progress_interval;/* steps between progress lines on rank 0 (0: every ~2 s of wall time) */
   PetscReal   dt_max;          /* s; 0 = none */
   PetscBool   fbar;            /* cell-averaged volumetric rate (Delta-F-bar anti-locking) */
-  PetscInt    lanes;           /* markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar; option only, for checks); 1 also keeps the cells' phases to their scalar loops, the Lagrangian phase and the remap's KE fix to passes of their own (PSLagProgress, PSKEProgress), and the fit's test to the fit */
+  PetscInt    lanes;           /* markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar; option only, for checks); 1 also keeps the cells' phases to their scalar loops, the Lagrangian phase and the remap's KE fix to passes of their own (PSLagProgress, PSKEProgress), the cells' P2G, grid update and predictor apart (PSCellsPipeline), and the fit's test to the fit */
   PetscReal   checkpoint_interval;      /* s of simulated time between checkpoints; 0 = at every output time */
   PetscReal   checkpoint_wall_interval; /* s of wall time between checkpoints; 0 = none */
   PetscReal   dt_floor;        /* the run stops when the CFL time step falls below this share of the initial one (0 = never) */

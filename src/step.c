@@ -68,10 +68,13 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   if (musl) PetscCall(PSMUSLP2G(S, &f, &ix));
   else PetscCall(PSAPICP2G(S, &f, &ix, dt));
   if (S->contact) PetscCall(PSContactP2G(S, &f, &ix));
-  if (S->cells) PetscCall(PSCellsToGrid(S, &ix, dt));
-  PetscCall(PSGridSolve(S, &ix, dt));
-  if (S->contact) PetscCall(PSContactGridSolve(S, &ix, dt));
-  if (S->cells) PetscCall(PSCellsPredict(S, &ix, dt)); /* the cells' half-step force, v^{n+1} corrected */
+  if (PSCellsPipelined(S, &ix)) PetscCall(PSCellsPipeline(S, &ix, dt)); /* the three phases below as one pipeline of units (lagrange.c) */
+  else {
+    if (S->cells) PetscCall(PSCellsToGrid(S, &ix, dt));
+    PetscCall(PSGridSolve(S, &ix, dt));
+    if (S->contact) PetscCall(PSContactGridSolve(S, &ix, dt));
+    if (S->cells) PetscCall(PSCellsPredict(S, &ix, dt)); /* the cells' half-step force, v^{n+1} corrected */
+  }
   if (S->cells && S->contact) PetscCall(PSContactCellsSync(S, &ix)); /* that correction to the fields where bodies meet */
   if (musl) PetscCall(PSMUSLG2P(S, &f, &ix, dt)); /* with contact too: contact.c redoes the markers near shared nodes */
   else PetscCall(PSAPICG2P(S, &f, &ix, dt));

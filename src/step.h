@@ -71,6 +71,7 @@ PETSC_INTERN PetscErrorCode PSGridActiveBox(PSSolver *, const PSFields *, PetscI
 PETSC_INTERN PetscErrorCode PSGridReset(PSSolver *, const PSIndex *, const PetscInt box[3][2]);
 PETSC_INTERN void           PSGridVelocity(const PSSolver *, const PSIndex *, const PetscReal *m, PetscInt ms, PetscReal *mv, PetscInt vs);
 PETSC_INTERN void           PSGridUpdateMUSL(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g);
+PETSC_INTERN void           PSGridUpdateMUSLUnits(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g, PetscInt u0, PetscInt u1);
 PETSC_INTERN void           PSGridAddOwned(const PSSolver *, const PSIndex *, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as);
 PETSC_INTERN void           PSGridAddOwnedUnits(const PSSolver *, const PSIndex *, const PetscReal *b, PetscInt bs, PetscReal *a, PetscInt as, PetscInt u0, PetscInt u1);
 PETSC_INTERN PetscErrorCode PSGridSolve(PSSolver *, const PSIndex *, PetscReal dt);

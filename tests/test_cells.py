@@ -497,6 +497,9 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim, transfer, tall):
     runs bitwise the same on 1 and 2 ranks.  Here: gases, an ideal-gas charge
     and an aluminium disk with strength (2D) crossing the ranks' boundary in
     moving air, every cell and node equal after 40 (2D) or 20 (3D) steps.
+    On one rank the musl cases take the cells' P2G, grid update and
+    predictor as one pipeline of units (PSCellsPipeline), on two the
+    separate phases, so this also holds the pipeline to them.
     Before, the ranks' partial sums were added at their boundary: the 3D
     charge's state drifted by round-off from the first step, and by 3% of a
     field's largest value at step 10.  The same under transfer apic (its

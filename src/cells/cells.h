@@ -473,6 +473,8 @@ PETSC_INTERN PetscErrorCode PSCellsDestroy(PSCells **);
 PETSC_INTERN PetscErrorCode PSCellsInsert(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsToGrid(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsPredict(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscBool      PSCellsPipelined(const PSSolver *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSCellsPipeline(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsLagrange(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsRemap(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *, PetscBool fit);

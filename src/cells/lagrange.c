@@ -404,11 +404,16 @@ static inline PetscInt ToGridNodes(PSCells *C, const PetscInt dim, PetscInt o0, 
   return PetscMax(o0, o1);
 }
 
-/* the cells' mass and force to the nodes: dim and strength constants where
-   it is called (PSCellsToGrid picks 2D or 3D, and whether any cell material
-   has strength, C->nq > 0), so the per-cell loops unroll, and without
-   strength the stress is a pressure: the corners take its diagonal alone */
-static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
+/* the cells' P2G over the units [u0, u1) of cells along y (2D) or z (3D),
+   from where tp left it (PSCellsToGridDim: all of them at once; the
+   Lagrangian pipeline: one at a time) */
+typedef struct {
+  PetscInt n;   /* the next cell's index among the cells around the owned nodes (PSCellsXIdx) */
+  PetscInt nb;  /* the local nodes with their P^C_i / m^C_i in C->sVL */
+  PetscInt nxt; /* the first unit of owned nodes without the cell materials' momentum */
+} PSToGridProgress;
+
+static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength, PetscInt u0, PetscInt u1, PSToGridProgress *tp)
 {
   PSCells        *C = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
@@ -417,12 +422,9 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = !strength && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (without strength; -run_lanes 1: the scalar loop alone, for checks) */
   PetscReal      *g = S->g, *W = C->sW;
-  PetscInt        i, j, k, m, a, d, e, n = 0, orow, nb = 0, nxt = PETSC_MIN_INT;
+  PetscInt        i, j, k, m, a, d, e, n = tp->n, orow, nb = tp->nb, nxt = tp->nxt, un;
 
   PetscFunctionBeginUser;
-  if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
-  PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
-  PetscCall(PSCellsEOSSlots(S)); /* (PSCellsEOSCache: each row's values below, before its cells read them) */
   /* every cell around the owned nodes, to its owned corners (PSCellsXIdx:
      each node's sum in one order on any number of ranks), a row (2D) or
      plane (3D) at a time with the nodes' values around it: before the cells
@@ -433,8 +435,9 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
      cell materials' momentum on the owned nodes up to unit u, which have all
      the cells' sums (the ghosts' would count twice; nxt: the first unit
      without it) */
-  for (k = C->xs[2]; k < C->ce[2]; k++) {
-    for (j = C->xs[1]; j < C->ce[1]; j++) {
+  for (un = u0; un < u1; un++) {
+    k = dim == 3 ? un : C->xs[2];
+    for (j = dim == 3 ? C->xs[1] : un; j < (dim == 3 ? C->ce[1] : un + 1); j++) {
       PetscInt ci0, oc0, xa, xb;
       nb = ToGridNodes(C, dim, nb, PSCellsNodesThrough(ix, dim, C->nnl, dim == 3 ? k : j));
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
@@ -516,9 +519,47 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
       nxt = k + PS_PAD + 1;
     }
   }
-  /* the nodes the loop above left */
-  (void)ToGridNodes(C, dim, nb, C->nnl);
-  PSGridAddOwnedUnits(S, ix, C->P, dim, g + 1, dof, nxt, PETSC_MAX_INT);
+  tp->n   = n;
+  tp->nb  = nb;
+  tp->nxt = nxt;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the P2G's start: the EOS cache's slots (PSCellsEOSCache: each row's values
+   in ToGridUnits, before its cells read them) */
+static inline PetscErrorCode ToGridStart(PSSolver *S, PSToGridProgress *tp)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PSCellsEOSSlots(S));
+  tp->n   = 0;
+  tp->nb  = 0;
+  tp->nxt = PETSC_MIN_INT;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the nodes the P2G's units left */
+static inline void ToGridEnd(PSSolver *S, const PSIndex *ix, const PetscInt dim, const PSToGridProgress *tp)
+{
+  PSCells *C = S->cells;
+  (void)ToGridNodes(C, dim, tp->nb, C->nnl);
+  PSGridAddOwnedUnits(S, ix, C->P, dim, S->g + 1, PSGridDof(S), tp->nxt, PETSC_MAX_INT);
+}
+
+/* the cells' mass and force to the nodes: dim and strength constants where
+   it is called (PSCellsToGrid picks 2D or 3D, and whether any cell material
+   has strength, C->nq > 0), so the per-cell loops unroll, and without
+   strength the stress is a pressure: the corners take its diagonal alone */
+static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
+{
+  PSCells         *C = S->cells;
+  PSToGridProgress tp;
+
+  PetscFunctionBeginUser;
+  if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
+  PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
+  PetscCall(ToGridStart(S, &tp));
+  PetscCall(ToGridUnits(S, ix, dt, dim, strength, C->xs[dim - 1], C->ce[dim - 1], &tp));
+  ToGridEnd(S, ix, dim, &tp);
   PetscCall(PetscLogEventEnd(EV_C2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -869,10 +910,16 @@ static inline void CorrectNodesUpTo(PSSolver *S, const PSIndex *ix, PetscReal dt
 
 static inline PetscErrorCode LagrangeBehind(PSSolver *, const PSIndex *, PetscReal, const PetscInt, PetscInt);
 
-/* the predictor-corrector: dim and strength constants where it is called
-   (PSCellsPredict picks them as PSCellsToGrid), so the per-cell loops
-   unroll, and without strength the force's change is a pressure's */
-static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
+/* the predictor-corrector over the units [u0, u1) of cells along y (2D) or
+   z (3D), from where pp left it (PSCellsPredictDim: all of them at once;
+   the Lagrangian pipeline: one at a time) */
+typedef struct {
+  PetscInt n;   /* the next cell's index among the cells around the owned nodes (PSCellsXIdx) */
+  PetscInt nb;  /* the local nodes with the predictor's v^n, v^{n+1/2*} and zero df (PredictNodes) */
+  PetscInt nxt; /* the first unit of owned nodes without the corrector */
+} PSPredictProgress;
+
+static inline PetscErrorCode PredictUnits(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength, PetscInt u0, PetscInt u1, PSPredictProgress *pp)
 {
   PSCells        *C = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
@@ -881,12 +928,11 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
   PetscReal       hm = 0.0, *W = C->sW;
-  PetscInt        i, j, k, m, d, e, a, lo[3], hi[3], n = 0, orow, nb = 0, nxt;
+  PetscInt        i, j, k, m, d, e, a, lo[3], hi[3], n = pp->n, orow, nb = pp->nb, nxt = pp->nxt, un;
 
   PetscFunctionBeginUser;
-  if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
-  PetscCall(PetscLogEventBegin(EV_Pred, 0, 0, 0, 0));
   for (d = 0; d < dim; d++) hm = PetscMax(hm, S->h[d]);
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
   /* every cell around the owned nodes (PSCellsXIdx), its force change to
      its owned corners.  A row (2D) or plane (3D) of cells at a time, with
      the nodes' values pipelined around it, each node's own arithmetic as in
@@ -896,21 +942,10 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
      force changes (the loop goes up along y, z) and take the corrector
      (CorrectNodes; nxt: the first unit of nodes without it).  A node's row
      is read and written while in the caches, not in three passes */
-  Clip(S->zbox, ix->os, ix->om, lo, hi);
-  nxt = lo[dim - 1];
-  /* the Lagrangian phase one unit behind, in a scene of cells alone on a
-     rank without ghost nodes across the units (PSLagProgress); -run_lanes 1
-     keeps it to its own pass, for checks */
-  {
-    C->lag.fused = !C->markers && !S->contact && lanes && PSCellsWholeAcross(ix, dim) ? PETSC_TRUE : PETSC_FALSE;
-    C->lag.next  = C->cs[dim - 1];
-    C->lag.nb    = ix->os[dim - 1] - ix->gs[dim - 1];
-    C->lag.nb0   = C->lag.nb;
-    C->lag.smax  = 0.0;
-  }
-  for (k = C->xs[2]; k < C->ce[2]; k++) {
+  for (un = u0; un < u1; un++) {
+    k = dim == 3 ? un : C->xs[2];
     if (dim == 3) PredictNodesUpTo(S, ix, dim, musl, k, &nb);
-    for (j = C->xs[1]; j < C->ce[1]; j++) {
+    for (j = dim == 3 ? C->xs[1] : un; j < (dim == 3 ? C->ce[1] : un + 1); j++) {
       PetscInt ci0, oc0, xa, xb;
       if (dim == 2) PredictNodesUpTo(S, ix, dim, musl, j, &nb);
       PSCellsRow(C, ix, dim, j, k, &ci0, &oc0, &xa, &xb);
@@ -1070,13 +1105,128 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
       if (C->lag.fused) PetscCall(LagrangeBehind(S, ix, dt, dim, k - 1));
     }
   }
-  /* the nodes the loop above left: the predictor's values of every local
-     node, and the corrector of the owned ones; then the ghosts */
-  PredictNodes(S, dim, musl, nb, C->nnl);
-  if (dim == 2) CorrectNodes(S, ix, dt, dim, musl, lo, hi, nxt, hi[1], lo[2], hi[2]);
-  else CorrectNodes(S, ix, dt, dim, musl, lo, hi, lo[1], hi[1], nxt, hi[2]);
+  pp->n   = n;
+  pp->nb  = nb;
+  pp->nxt = nxt;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the predictor's start: the Lagrangian phase one unit behind, in a scene of
+   cells alone on a rank without ghost nodes across the units
+   (PSLagProgress); -run_lanes 1 keeps it to its own pass, for checks */
+static inline void PredictStart(PSSolver *S, const PSIndex *ix, const PetscInt dim, PSPredictProgress *pp)
+{
+  PSCells *C = S->cells;
+  PetscInt lo[3], hi[3];
+
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
+  pp->n        = 0;
+  pp->nb       = 0;
+  pp->nxt      = lo[dim - 1];
+  C->lag.fused = !C->markers && !S->contact && S->run.lanes != 1 && PSCellsWholeAcross(ix, dim) ? PETSC_TRUE : PETSC_FALSE;
+  C->lag.next  = C->cs[dim - 1];
+  C->lag.nb    = ix->os[dim - 1] - ix->gs[dim - 1];
+  C->lag.nb0   = C->lag.nb;
+  C->lag.smax  = 0.0;
+}
+
+/* the nodes the predictor's units left: the predictor's values of every
+   local node, and the corrector of the owned ones */
+static inline void PredictEnd(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PSPredictProgress *pp)
+{
+  PSCells        *C    = S->cells;
+  const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
+  PetscInt        lo[3], hi[3];
+
+  Clip(S->zbox, ix->os, ix->om, lo, hi);
+  PredictNodes(S, dim, musl, pp->nb, C->nnl);
+  if (dim == 2) CorrectNodes(S, ix, dt, dim, musl, lo, hi, pp->nxt, hi[1], lo[2], hi[2]);
+  else CorrectNodes(S, ix, dt, dim, musl, lo, hi, lo[1], hi[1], pp->nxt, hi[2]);
+}
+
+/* the predictor-corrector: dim and strength constants where it is called
+   (PSCellsPredict picks them as PSCellsToGrid), so the per-cell loops
+   unroll, and without strength the force's change is a pressure's; the
+   ghosts' values after it */
+static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
+{
+  PSCells          *C = S->cells;
+  PSPredictProgress pp;
+
+  PetscFunctionBeginUser;
+  if (!EV_Pred) PetscCall(PetscLogEventRegister("PSCellsPredict", 0, &EV_Pred));
+  PetscCall(PetscLogEventBegin(EV_Pred, 0, 0, 0, 0));
+  PredictStart(S, ix, dim, &pp);
+  PetscCall(PredictUnits(S, ix, dt, dim, strength, C->xs[dim - 1], C->ce[dim - 1], &pp));
+  PredictEnd(S, ix, dt, dim, &pp);
   PetscCall(PetscLogEventEnd(EV_Pred, 0, 0, 0, 0));
   PetscCall(PSHaloBcast(S->sfg, S->g));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* The cells' P2G, the grid update and the predictor-corrector (with the
+   Lagrangian phase behind it) as one pipeline of units: after the P2G of
+   the cells of unit u the owned nodes through grid index u + PS_PAD have
+   all their cells' sums (cells u - 1 and u), and take the grid update; the
+   predictor's unit u - 1 then has its nodes' v* (its upper corners, u +
+   PS_PAD).  So each unit's cells and nodes are read by the three phases
+   while still in the caches, not in three passes over the state (the 512^2
+   quadrants' state is 150 MiB: PSCellsToGrid and PSCellsPredict each read
+   it from memory).  Every cell, node and sum is the separate phases' own,
+   in the same order.  In a scene of cells alone (no marker bodies: their
+   P2G and G2P stand between the phases; no contact, whose grid solve does)
+   under musl, on a rank without ghost nodes (one rank: the grid's ghost
+   sums and values, PSGridSolve's halo, would come between the phases);
+   -run_lanes 1 keeps the separate phases, for checks */
+static PetscLogEvent EV_Pipe = 0;
+
+PetscBool PSCellsPipelined(const PSSolver *S, const PSIndex *ix)
+{
+  const PSCells *C = S->cells;
+  PetscInt       d;
+
+  if (!C || C->markers || S->contact || S->run.transfer != PS_TRANSFER_MUSL || S->run.lanes == 1) return PETSC_FALSE;
+  for (d = 0; d < S->dim; d++)
+    if (ix->gm[d] != ix->om[d]) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
+{
+  PSCells          *C = S->cells;
+  const PetscInt    e = dim - 1, u0 = C->xs[e], u1 = C->ce[e];
+  PSToGridProgress  tp;
+  PSPredictProgress pp;
+  PetscInt          u, gn = PETSC_MIN_INT; /* (gn: the first unit of nodes without the grid update) */
+
+  PetscFunctionBeginUser;
+  if (!EV_Pipe) PetscCall(PetscLogEventRegister("PSCellsPipeline", 0, &EV_Pipe));
+  PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
+  PetscCall(ToGridStart(S, &tp));
+  PredictStart(S, ix, dim, &pp);
+  for (u = u0; u < u1; u++) {
+    PetscCall(ToGridUnits(S, ix, dt, dim, strength, u, u + 1, &tp));
+    PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, u + PS_PAD + 1);
+    gn = u + PS_PAD + 1;
+    if (u > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u - 1, u, &pp));
+  }
+  ToGridEnd(S, ix, dim, &tp);
+  PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, PETSC_MAX_INT);
+  if (u1 > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u1 - 1, u1, &pp));
+  PredictEnd(S, ix, dt, dim, &pp);
+  PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsPipeline(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  const PetscBool strength = S->cells->nq > 0 ? PETSC_TRUE : PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (S->dim == 2 && strength) PetscCall(PipelineDim(S, ix, dt, 2, PETSC_TRUE));
+  else if (S->dim == 2) PetscCall(PipelineDim(S, ix, dt, 2, PETSC_FALSE));
+  else if (strength) PetscCall(PipelineDim(S, ix, dt, 3, PETSC_TRUE));
+  else PetscCall(PipelineDim(S, ix, dt, 3, PETSC_FALSE));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
