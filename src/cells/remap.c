@@ -1519,7 +1519,8 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
     C->mcn = t;
   }
   /* the owned cells' masses: CellUpdate; every local node's m^C_i but the
-     units' the KE fix behind the cells has summed (none below it there) */
+     units' the KE fix behind the cells has summed, [node0, node): those
+     above them, then those below (next to a rank below) */
   PetscCall(PSCellsNodalMassUnits(S, ix, PETSC_TRUE, kp.fused ? kp.node : PETSC_MIN_INT, PETSC_MAX_INT));
   if (kp.fused && kp.node0 > ix->os[dim - 1]) PetscCall(PSCellsNodalMassGather(S, ix, C->mcn, PETSC_MIN_INT, kp.node0)); /* (the units below the fused ones) */
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
