@@ -219,7 +219,7 @@ PetscErrorCode PSRunParamsRead(MPI_Comm comm, PSRunParams *r)
   PetscCall(PetscOptionsReal("-dt_max", "largest time step (s); 0: none", "plyshock", r->dt_max, &r->dt_max, NULL));
   PetscCall(PetscOptionsReal("-mass_threshold", "nodes lighter than this share of a full cell carry no velocity", "plyshock", r->mass_threshold, &r->mass_threshold, NULL));
   PetscCall(PetscOptionsBool("-fbar", "average the volumetric strain rate over each cell (Delta-F-bar, against volumetric locking)", "plyshock", r->fbar, &r->fbar, NULL));
-  PetscCall(PetscOptionsInt("-lanes", "markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar, for checks); 1 also sends every cell through the cells' scalar loops", "plyshock", r->lanes, &r->lanes, NULL));
+  PetscCall(PetscOptionsInt("-lanes", "markers per call of the 3D isotropic kernel: 4 (vectorised) or 1 (scalar, for checks); 1 also sends every cell through the cells' scalar loops and keeps the cells' phases in passes of their own (the results are bitwise the same)", "plyshock", r->lanes, &r->lanes, NULL));
   PetscCall(PetscOptionsInt("-max_steps", "stop after this many steps (0: none)", "plyshock", r->max_steps, &r->max_steps, NULL));
   PetscCall(PetscOptionsInt("-history_interval", "steps between history rows", "plyshock", r->history_interval, &r->history_interval, NULL));
   PetscCall(PetscOptionsInt("-progress_interval", "steps between progress lines (0: by wall time)", "plyshock", r->progress_interval, &r->progress_interval, NULL));
