@@ -116,6 +116,8 @@ typedef struct PSCells_ {
   PetscReal *dep;                 /* the markers' deposit per ghosted cell: volume fraction, compliance; then the fit's discarded mass */
   PetscBool dep_dirty;            /* dep holds a discard (else it is all zero, and the fit need not zero it) */
   PetscReal *sF, *sK, *sVL, *sA;  /* the remap's scratch (remap.c), kept between steps; sK and sVL (one and dim per local node; the remap's sVL in dim planes of nnl) from the start: the cells' P2G takes sVL before the remap */
+  PetscReal *sVR;                 /* the remap's nodal velocities where its first sweep runs behind the Lagrangian phase (PSCellsRemapBehindOK), dim planes of nnl: the pipeline's P2G still reads sVL; allocated on first use */
+  struct PSSweepProgress_ *rsp;   /* the remap's progress through its sweeps and its books of the step (remap.c); allocated on first use */
   PetscReal *sdP;                 /* the remap's KE fix: the momentum cut on a row of owned nodes, dim per node */
   PetscReal *sW;                  /* the remap's dual fluxes on a run of cells: per node column, dim planes of phi v_f and one of phi v_f^2 / 2, then a plane of flags (the cell's mid-plane carries anything), a run's length each; the Lagrangian phases' lanes use up to 15 + 2^dim dim + nh dim (the predictor's, lagrange.c) */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */
@@ -477,6 +479,9 @@ PETSC_INTERN PetscBool      PSCellsPipelined(const PSSolver *, const PSIndex *);
 PETSC_INTERN PetscErrorCode PSCellsPipeline(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsLagrange(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsRemap(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscBool      PSCellsRemapBehindOK(const PSSolver *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSCellsRemapBehindBegin(PSSolver *, const PSIndex *);
+PETSC_INTERN PetscErrorCode PSCellsRemapBehind(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *, PetscBool fit);
 PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);

@@ -1198,17 +1198,28 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
   PSToGridProgress  tp;
   PSPredictProgress pp;
   PetscInt          u, gn = PETSC_MIN_INT; /* (gn: the first unit of nodes without the grid update) */
+  const PetscBool   behind = PSCellsRemapBehindOK(S, ix); /* the remap's first sweep behind the Lagrangian phase (remap.c) */
 
   PetscFunctionBeginUser;
   if (!EV_Pipe) PetscCall(PetscLogEventRegister("PSCellsPipeline", 0, &EV_Pipe));
   PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
   PetscCall(ToGridStart(S, &tp));
   PredictStart(S, ix, dim, &pp);
+  if (behind) { /* (the remap's own event: PSCellsRemap; the pipeline's paused) */
+    PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0));
+    PetscCall(PSCellsRemapBehindBegin(S, ix));
+    PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
+  }
   for (u = u0; u < u1; u++) {
     PetscCall(ToGridUnits(S, ix, dt, dim, strength, u, u + 1, &tp));
     PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, u + PS_PAD + 1);
     gn = u + PS_PAD + 1;
     if (u > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u - 1, u, &pp));
+    if (behind && u > u0) {
+      PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0));
+      PetscCall(PSCellsRemapBehind(S, ix, dt));
+      PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
+    }
   }
   ToGridEnd(S, ix, dim, &tp);
   PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, PETSC_MAX_INT);

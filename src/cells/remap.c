@@ -1357,157 +1357,227 @@ static inline PetscErrorCode KEBehind(PSSolver *S, const PSIndex *ix, const PSSw
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* one sweep along d; dim a constant where it is called (Sweep picks 2D or
-   3D), so the loops over a face's corners and a node's components unroll */
-static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, PetscBool first, PetscBool last, const PetscInt dim)
+/* A sweep's progress through its units: the outer loop's index (a row of
+   cells j along y for d = x in 2D, the slice lead along y for d = y in 2D,
+   the plane along z in 3D: j[2] for d = x, i[2] for d = y, the slice lead
+   for d = z), so the remap's first sweep can run behind the Lagrangian
+   phase a unit at a time (PSCellsRemapBehind) and the rest after it (the
+   other sweeps: all their units at once).  The remap's books of the step
+   (lost: mass, momentum, energies through free faces and discards) are
+   summed apart from the rest of the step's, from zero, and added to
+   S->lost_local at the remap's end (PSCellsRemap), so their order is the
+   same whether the first sweep runs behind the Lagrangian phase (whose
+   closure books into the same totals) or not */
+typedef struct PSSweepProgress_ {
+  PetscBool    on;      /* a sweep begun and not ended */
+  PetscBool    behind;  /* this step's first sweep runs behind the Lagrangian phase */
+  PetscInt     d;       /* the sweep's direction */
+  PetscBool    first, last;
+  PetscBool    lanes;   /* FractionsRun's gas blocks */
+  PetscInt     nw;      /* the lanes' scratch C->sW: planes of nw */
+  PetscInt     lo[3], hi[3], ns;
+  PetscInt     u, u1;   /* the outer loop's next unit, its end */
+  PetscInt     nprep;   /* the local nodes [0, nprep) have their VL (and K in the first sweep) */
+  PetscReal   *VL;      /* the nodes' velocities before the sweep (C->sVL, or C->sVR behind) */
+  PSSweepDirs  sw;
+  PSKEProgress kp;
+  PSFractions  fr;
+  PSTotals     lost;    /* the remap's books this step (swapped with S->lost_local while it runs) */
+} PSSweepProgress;
+
+/* the remap's books in S->lost_local while it runs, the rest of the step's
+   kept aside (and back) */
+static inline void BooksSwap(PSSolver *S, PSSweepProgress *sp)
 {
-  PSCells        *C = S->cells;
-  const PetscInt  ms = C->ms, nm = C->nmat, fs = nm * ms + 2;
-  PetscReal      *F, *K, *VL, *P = C->P;
-  const PetscInt  nv = C->nnl; /* (VL's plane length) */
-  const PetscBool lanes = ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (FractionsRun: gas blocks) */
-  const PetscInt  nw = PetscMax(ix->gm[0], C->gm[0]); /* (the lanes' scratch C->sW: planes of nw) */
-  PetscInt       *R, lo[3], hi[3], i[3], e, q, ns, r, c;
-  PSSweepDirs     sw;
-  PSKEProgress    kp;
+  const PSTotals t = S->lost_local;
+  S->lost_local    = sp->lost;
+  sp->lost         = t;
+}
+
+/* the nodal velocities of the local nodes [e0, e1) before the sweep (VL,
+   in dim planes of nnl: component q of node e at VL[q nnl + e], so a run of
+   cells or nodes loads its velocities in SIMD lanes: DualFluxLanes,
+   KEBounds), and in the first sweep their kinetic energies (K): the same
+   fluxes carry them through every sweep, and the KE fix compares them with
+   the remapped momentum's once, after the last */
+static inline void PrepNodes(PSCells *C, const PetscInt dim, PetscBool first, PetscReal *VL, PetscInt e0, PetscInt e1)
+{
+  const PetscReal *mcn = C->mcn, *P = C->P;
+  PetscReal       *K  = C->sK;
+  const PetscInt   nv = C->nnl;
+  PetscInt         e, q;
+#pragma GCC ivdep
+  for (e = e0; e < e1; e++) {
+    const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
+    PetscReal       p2 = 0.0;
+#pragma GCC unroll 3
+    for (q = 0; q < dim; q++) {
+      VL[q * nv + e] = P[dim * e + q] * im;
+      p2 += P[dim * e + q] * P[dim * e + q];
+    }
+    if (first) K[e] = 0.5 * p2 * im; /* (a test of the loop's invariant: GCC makes two loops of it) */
+  }
+}
+
+/* a sweep along d begun: its directions, the KE fix's progress, the faces'
+   box and scratch, the fractions' box; the nodal velocities (PrepNodes) of
+   every local node unless it runs behind the Lagrangian phase (then a unit
+   of nodes at a time, as the phase gives them their momentum) */
+static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscInt d, PetscBool first, PetscBool last, const PetscInt dim)
+{
+  PSCells       *C  = S->cells;
+  const PetscInt fs = C->nmat * C->ms + 2;
+  PetscInt       e, q;
 
   PetscFunctionBeginUser;
-  SweepDirs(C, ix, dim, d, &sw);
+  sp->on    = PETSC_TRUE;
+  sp->d     = d;
+  sp->first = first;
+  sp->last  = last;
+  sp->lanes = C->ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (FractionsRun: gas blocks) */
+  sp->nw    = PetscMax(ix->gm[0], C->gm[0]);
+  SweepDirs(C, ix, dim, d, &sp->sw);
   /* the KE fix behind the cells' update, where it can (PSKEProgress);
    -run_lanes 1 keeps it to its own pass, for checks */
   {
+    PSKEProgress  *kp = &sp->kp;
     const PetscInt e0 = dim - 1, nend = ix->os[e0] + ix->om[e0];
-    kp.fused = S->run.lanes != 1 && PSCellsWholeAcross(ix, dim) && S->bc[d][0] != PS_BC_FREE && S->bc[d][1] != PS_BC_FREE ? PETSC_TRUE : PETSC_FALSE;
+    kp->fused = S->run.lanes != 1 && PSCellsWholeAcross(ix, dim) && S->bc[d][0] != PS_BC_FREE && S->bc[d][1] != PS_BC_FREE ? PETSC_TRUE : PETSC_FALSE;
     /* on a rank with a neighbour below, the units of nodes from the first
        whose cells on both sides are owned (physical node n - PS_PAD has
        cells n - PS_PAD - 1 and n - PS_PAD), and the cells whose corners are
        among them; the units below them (their cells' ghosts) come after the
        halo, after the others (in that order fused or not: the books' sums
        the same both ways) */
-    kp.node0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(ix->os[e0], C->cs[e0] + PS_PAD + 1), nend) : ix->os[e0];
-    kp.cell0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(C->cs[e0], kp.node0 - PS_PAD), C->ce[e0]) : C->cs[e0];
-    kp.node  = kp.node0;
-    kp.cell  = kp.cell0;
-    for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (no outflow where fused: read now or after the faces, the same) */
-    kp.heat = C->remap_heat;
+    kp->node0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(ix->os[e0], C->cs[e0] + PS_PAD + 1), nend) : ix->os[e0];
+    kp->cell0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(C->cs[e0], kp->node0 - PS_PAD), C->ce[e0]) : C->cs[e0];
+    kp->node  = kp->node0;
+    kp->cell  = kp->cell0;
+    for (q = 0; q < 3; q++) kp->lost[q] = S->lost_local.p[q]; /* (no outflow where fused: read now or after the faces, the same) */
+    kp->heat = C->remap_heat;
   }
   if (last) C->over = !C->markers && S->run.lanes != 1 ? 0 : -1; /* (HeatUnit; -run_lanes 1: the fit's own pass, for checks) */
   /* faces along d of the cells around the owned nodes, [cs - 1, ce) in every
      direction (clipped to the domain), one more along d */
   for (e = 0; e < 3; e++) {
-    lo[e] = e < dim ? PetscMax(C->cs[e] - 1, 0) : 0;
-    hi[e] = e < dim ? C->ce[e] : 1;
+    sp->lo[e] = e < dim ? PetscMax(C->cs[e] - 1, 0) : 0;
+    sp->hi[e] = e < dim ? C->ce[e] : 1;
   }
-  hi[d] += 1;
+  sp->hi[d] += 1;
+  for (e = 0, sp->ns = 1; e < d; e++) sp->ns *= sp->hi[e] - sp->lo[e]; /* faces in a slice (SweepUnit) */
+  /* the outer loop's units (SweepUnit) */
+  if (d == dim - 1) {
+    sp->u  = sp->lo[d];
+    sp->u1 = sp->hi[d] + 2;
+  } else {
+    sp->u  = sp->lo[dim - 1];
+    sp->u1 = sp->hi[dim - 1];
+  }
   PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
-  for (e = 0, ns = 1; e < d; e++) ns *= hi[e] - lo[e]; /* faces in a slice (below) */
-  PetscCall(ScratchSize(C, d == 0 ? hi[0] - lo[0] : 3 * ns, fs)); /* a line's faces along x, or three slices' */
-  F  = C->sF;
-  R  = C->sR;
-  K  = C->sK;
-  VL = C->sVL;
-  PetscCall(FractionsSetup(C, fr));
-  /* nodal momentum: each cell's mid-plane dual flux from its lower to its
-     upper corner nodes, added into P; free faces let the nodes' share out.
-     Velocities (VL) before the sweep, over every local node (VL is kept
-     through the sweep: the KE fix below takes the bounds of the remapped
-     velocity from it); VL in dim planes of the nodes (component q of node e
-     at VL[q nnl + e]), so a run of cells or nodes loads its velocities in
-     SIMD lanes (DualFluxLanes, KEBounds).  The kinetic energies (K) before
-     the remap, in the first sweep only: the same fluxes carry them through
-     every sweep, and the KE fix compares them with the remapped momentum's
-     once, after the last (below) */
-  {
-    const PetscReal *mcn = C->mcn;
-#pragma GCC ivdep
-    for (e = 0; e < nv; e++) {
-      const PetscReal im = mcn[e] > 0.0 ? 1.0 / mcn[e] : 0.0;
-      PetscReal       p2 = 0.0;
-#pragma GCC unroll 3
-      for (q = 0; q < dim; q++) {
-        VL[q * nv + e] = P[dim * e + q] * im;
-        p2 += P[dim * e + q] * P[dim * e + q];
-      }
-      if (first) K[e] = 0.5 * p2 * im; /* (a test of the loop's invariant: GCC makes two loops of it) */
-    }
+  PetscCall(ScratchSize(C, d == 0 ? sp->hi[0] - sp->lo[0] : 3 * sp->ns, fs)); /* a line's faces along x, or three slices' */
+  PetscCall(FractionsSetup(C, &sp->fr));
+  sp->nprep = 0;
+  if (!sp->behind) {
+    PrepNodes(C, dim, first, sp->VL, 0, C->nnl);
+    sp->nprep = C->nnl;
   }
   PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
-  /* faces, the momentum's dual fluxes and the cells' update, slice by slice
-     along d (a slice: the faces or cells with one index i_d), within each
-     line or plane across d in the order of the cell array (z, y, x): the
-     faces of slice s read the cells of slices s - 2 .. s + 1 (donor and its
-     neighbours along d), so the cells of slice c take their update once the
-     faces of slice c + 2 are done, and three slices of faces in a ring are
-     all the sweep keeps.  Each cell's arithmetic, and the order of every sum
-     (the nodes' momentum, the books), is that of separate passes over all
-     faces, then all cells */
-  PetscCall(PetscLogEventBegin(EV_Flux, 0, 0, 0, 0));
-  /* the fractions and per-cell values of the cells before the sweep
-     (FractionsUpTo), a row (2D) or plane (3D) of the box at a time, one
-     ahead of the faces that read them: they are read while still in the
-     caches (a separate pass over the box before the faces wrote them all to
-     memory and read them back, 8 of the 512^2 quadrants' 150 ns per
-     cell-update), and each unit is built before the sweep updates its cells */
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* one unit of the sweep's outer loop (sp->u).  Faces, the momentum's dual
+   fluxes and the cells' update, slice by slice along d (a slice: the faces
+   or cells with one index i_d), within each line or plane across d in the
+   order of the cell array (z, y, x): the faces of slice s read the cells of
+   slices s - 2 .. s + 1 (donor and its neighbours along d), so the cells of
+   slice c take their update once the faces of slice c + 2 are done, and
+   three slices of faces in a ring are all the sweep keeps.  Each cell's
+   arithmetic, and the order of every sum (the nodes' momentum, the books),
+   is that of separate passes over all faces, then all cells.  The
+   fractions and per-cell values of the cells before the sweep
+   (FractionsUpTo), a row (2D) or plane (3D) of the box at a time, one ahead
+   of the faces that read them: they are read while still in the caches (a
+   separate pass over the box before the faces wrote them all to memory and
+   read them back, 8 of the 512^2 quadrants' 150 ns per cell-update), and
+   each unit is built before the sweep updates its cells */
+static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, const PetscInt dim)
+{
+  PSCells           *C = S->cells;
+  const PetscInt     d = sp->d, fs = C->nmat * C->ms + 2, ns = sp->ns, *lo = sp->lo, *hi = sp->hi, U = sp->u;
+  const PSSweepDirs *sw = &sp->sw;
+  PSFractions       *fr = &sp->fr;
+  PetscReal         *F = C->sF, *K = C->sK, *VL = sp->VL, *P = C->P;
+  PetscInt          *R = C->sR;
+
+  PetscFunctionBeginUser;
   if (d == 0) {
     /* along x a slice is one face: line by line instead, all its faces (they
        read the cells before the sweep only), then its cells in order: the
-       same arithmetic and sums, in the same order, as the slices' ring below */
+       same arithmetic and sums, in the same order, as the slices' ring below
+       (the unit: the row U in 2D, the plane U in 3D) */
     const PetscInt nf = hi[0] - lo[0];
     PetscInt       j[3];
-    for (j[2] = lo[2]; j[2] < hi[2]; j[2]++) {
-      for (j[1] = lo[1]; j[1] < hi[1]; j[1]++) {
-        j[0] = lo[0];
-        FractionsUpTo(C, fr, d, lanes, nw, C->sW, j[dim - 1] + 1);
-        FaceRun(S, ix, fr, dt, &sw, dim, j, nf, F, nf, R);
-        CellRun(S, ix, &sw, dim, j, nf - 1, F, &F[1], nf, R, &R[2], VL, P, K);
-        if (dim == 2) PetscCall(KEBehind(S, ix, &sw, dim, last, j[1], VL, &kp)); /* (the row of cells j[1] done) */
-      }
-      if (dim == 3) PetscCall(KEBehind(S, ix, &sw, dim, last, j[2], VL, &kp)); /* (the plane j[2]) */
+    j[2] = dim == 3 ? U : 0;
+    for (j[1] = dim == 3 ? lo[1] : U; j[1] < (dim == 3 ? hi[1] : U + 1); j[1]++) {
+      j[0] = lo[0];
+      FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, U + 1);
+      FaceRun(S, ix, fr, dt, sw, dim, j, nf, F, nf, R);
+      CellRun(S, ix, sw, dim, j, nf - 1, F, &F[1], nf, R, &R[2], VL, P, K);
     }
+    PetscCall(KEBehind(S, ix, sw, dim, sp->last, U, VL, &sp->kp)); /* (the row or plane of cells U done) */
   } else {
-    PetscInt lead, ol[3], oh[3];
-    /* the indices across d that are outer to it in the loop nest: one pass of
-       slices per plane (d = y in 3D), one in all (d = y in 2D, d = z) */
-    for (e = 0; e < 3; e++) {
-      ol[e] = e > d ? lo[e] : 0;
-      oh[e] = e > d ? hi[e] : 1;
-    }
-    for (i[2] = ol[2]; i[2] < oh[2]; i[2]++)
-      for (i[1] = ol[1]; i[1] < oh[1]; i[1]++)
-        for (i[0] = ol[0]; i[0] < oh[0]; i[0]++) {
-          for (lead = lo[d]; lead < hi[d] + 2; lead++) {
-            /* the faces of slice lead */
-            if (lead < hi[d]) {
-              FractionsUpTo(C, fr, d, lanes, nw, C->sW, (dim == 3 && d == 1 ? i[2] : lead) + 1);
-              PetscReal *Fs = &F[(lead % 3) * ns * fs];
-              PetscInt  *Rs = &R[(lead % 3) * ns * 2];
-              PetscInt   j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
-              j[d] = lead;
-              SliceRange(d, lo, hi, j, jl, jh);
-              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
-                j[0] = jl[0];
-                FaceRun(S, ix, fr, dt, &sw, dim, j, jh[0] - jl[0], &Fs[n], ns, &Rs[2 * n]);
-              }
-            }
-            /* the cells of slice c = lead - 2, between faces c and c + 1 */
-            c = lead - 2;
-            if (c >= lo[d] && c < hi[d] - 1) {
-              const PetscReal *Fl = &F[(c % 3) * ns * fs], *Fh = &F[((c + 1) % 3) * ns * fs];
-              const PetscInt  *Rl = &R[(c % 3) * ns * 2], *Rh = &R[((c + 1) % 3) * ns * 2];
-              PetscInt         j[3] = {i[0], i[1], i[2]}, jl[2], jh[2], n = 0;
-              j[d] = c;
-              SliceRange(d, lo, hi, j, jl, jh);
-              for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
-                j[0] = jl[0];
-                CellRun(S, ix, &sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ns, &Rl[2 * n], &Rh[2 * n], VL, P, K);
-              }
-              if (d == dim - 1) PetscCall(KEBehind(S, ix, &sw, dim, last, c, VL, &kp)); /* (the slice c: a unit) */
-            }
-          }
-          if (dim == 3 && d == 1) PetscCall(KEBehind(S, ix, &sw, dim, last, i[2], VL, &kp)); /* (the plane i[2]) */
+    /* the slices along d: one pass of them per plane U (d = y in 3D), or
+       the slice U (d = y in 2D, d = z) */
+    const PetscInt l0 = d == dim - 1 ? U : lo[d], l1 = d == dim - 1 ? U + 1 : hi[d] + 2;
+    PetscInt       lead, c;
+    for (lead = l0; lead < l1; lead++) {
+      /* the faces of slice lead */
+      if (lead < hi[d]) {
+        FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, (dim == 3 && d == 1 ? U : lead) + 1);
+        PetscReal *Fs = &F[(lead % 3) * ns * fs];
+        PetscInt  *Rs = &R[(lead % 3) * ns * 2];
+        PetscInt   j[3] = {0, 0, dim == 3 && d == 1 ? U : 0}, jl[2], jh[2], n = 0;
+        j[d] = lead;
+        SliceRange(d, lo, hi, j, jl, jh);
+        for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
+          j[0] = jl[0];
+          FaceRun(S, ix, fr, dt, sw, dim, j, jh[0] - jl[0], &Fs[n], ns, &Rs[2 * n]);
         }
+      }
+      /* the cells of slice c = lead - 2, between faces c and c + 1 */
+      c = lead - 2;
+      if (c >= lo[d] && c < hi[d] - 1) {
+        const PetscReal *Fl = &F[(c % 3) * ns * fs], *Fh = &F[((c + 1) % 3) * ns * fs];
+        const PetscInt  *Rl = &R[(c % 3) * ns * 2], *Rh = &R[((c + 1) % 3) * ns * 2];
+        PetscInt         j[3] = {0, 0, dim == 3 && d == 1 ? U : 0}, jl[2], jh[2], n = 0;
+        j[d] = c;
+        SliceRange(d, lo, hi, j, jl, jh);
+        for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
+          j[0] = jl[0];
+          CellRun(S, ix, sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ns, &Rl[2 * n], &Rh[2 * n], VL, P, K);
+        }
+        if (d == dim - 1) PetscCall(KEBehind(S, ix, sw, dim, sp->last, c, VL, &sp->kp)); /* (the slice c: a unit) */
+      }
+    }
+    if (dim == 3 && d == 1) PetscCall(KEBehind(S, ix, sw, dim, sp->last, U, VL, &sp->kp)); /* (the plane U) */
   }
-  FractionsUpTo(C, fr, d, lanes, nw, C->sW, fr->o[dim - 1] + fr->n[dim - 1]); /* (the rest: the box whole, as every sweep leaves it) */
+  sp->u++;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the sweep's end: the box's fractions whole (as every sweep leaves it),
+   the cells' new state to the ghosts, the new nodal masses, the KE fix of
+   the units not done behind the cells, and after the last sweep the heat */
+static inline PetscErrorCode SweepEnd(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, const PetscInt dim)
+{
+  PSCells           *C = S->cells;
+  const PSSweepDirs *sw = &sp->sw;
+  PSKEProgress      *kp = &sp->kp;
+  const PetscReal   *VL = sp->VL;
+  PetscInt           q, r, c;
+
+  PetscFunctionBeginUser;
+  FractionsUpTo(C, &sp->fr, sp->d, sp->lanes, sp->nw, C->sW, sp->fr.o[dim - 1] + sp->fr.n[dim - 1]); /* (the rest: the box whole) */
   PetscCall(PetscLogEventEnd(EV_Flux, 0, 0, 0, 0));
   /* the cells' new state to the ghosts; the new nodal masses into mcn, the
      ones before the sweep kept in mco (the velocity bounds below) */
@@ -1521,48 +1591,61 @@ static inline PetscErrorCode SweepDim(PSSolver *S, const PSIndex *ix, PSFraction
   /* the owned cells' masses: CellUpdate; every local node's m^C_i but the
      units' the KE fix behind the cells has summed, [node0, node): those
      above them, then those below (next to a rank below) */
-  PetscCall(PSCellsNodalMassUnits(S, ix, PETSC_TRUE, kp.fused ? kp.node : PETSC_MIN_INT, PETSC_MAX_INT));
-  if (kp.fused && kp.node0 > ix->os[dim - 1]) PetscCall(PSCellsNodalMassGather(S, ix, C->mcn, PETSC_MIN_INT, kp.node0)); /* (the units below the fused ones) */
+  PetscCall(PSCellsNodalMassUnits(S, ix, PETSC_TRUE, kp->fused ? kp->node : PETSC_MIN_INT, PETSC_MAX_INT));
+  if (kp->fused && kp->node0 > ix->os[dim - 1]) PetscCall(PSCellsNodalMassGather(S, ix, C->mcn, PETSC_MIN_INT, kp->node0)); /* (the units below the fused ones) */
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscCall(PetscLogEventBegin(EV_KE, 0, 0, 0, 0));
   /* the KE fix of the owned units of nodes not done behind the cells
      (KEUnit), in the same order, the sums continued */
-  if (!kp.fused)
-    for (q = 0; q < 3; q++) kp.lost[q] = S->lost_local.p[q]; /* (after the faces' outflow) */
-  for (r = kp.node; r < ix->os[dim - 1] + ix->om[dim - 1]; r++) KEUnit(S, ix, &sw, dim, last, r, VL, C->mcn, C->mco, kp.lost);
-  for (r = ix->os[dim - 1]; r < kp.node0; r++) KEUnit(S, ix, &sw, dim, last, r, VL, C->mcn, C->mco, kp.lost); /* (next to a rank below) */
-  for (q = 0; q < 3; q++) S->lost_local.p[q] = kp.lost[q];
+  if (!kp->fused)
+    for (q = 0; q < 3; q++) kp->lost[q] = S->lost_local.p[q]; /* (after the faces' outflow) */
+  for (r = kp->node; r < ix->os[dim - 1] + ix->om[dim - 1]; r++) KEUnit(S, ix, sw, dim, sp->last, r, VL, C->mcn, C->mco, kp->lost);
+  for (r = ix->os[dim - 1]; r < kp->node0; r++) KEUnit(S, ix, sw, dim, sp->last, r, VL, C->mcn, C->mco, kp->lost); /* (next to a rank below) */
+  for (q = 0; q < 3; q++) S->lost_local.p[q] = kp->lost[q];
   PetscCall(PSHaloBcast(C->sfp, C->P));
   /* after the last sweep, d_i to the ghosts; then the heat of the owned
      cells not done behind the KE fix (HeatUnit), in the same order */
-  if (last) {
-    PetscCall(PSHaloBcast(C->sfk, K));
-    for (c = kp.cell; c < C->ce[dim - 1]; c++) HeatUnit(S, ix, dim, c, &kp.heat);
-    for (c = C->cs[dim - 1]; c < kp.cell0; c++) HeatUnit(S, ix, dim, c, &kp.heat); /* (next to a rank below) */
-    C->remap_heat = kp.heat;
+  if (sp->last) {
+    PetscCall(PSHaloBcast(C->sfk, C->sK));
+    for (c = kp->cell; c < C->ce[dim - 1]; c++) HeatUnit(S, ix, dim, c, &kp->heat);
+    for (c = C->cs[dim - 1]; c < kp->cell0; c++) HeatUnit(S, ix, dim, c, &kp->heat); /* (next to a rank below) */
+    C->remap_heat = kp->heat;
   }
-
   PetscCall(PetscLogEventEnd(EV_KE, 0, 0, 0, 0));
+  sp->on = PETSC_FALSE;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSFractions *fr, PetscReal dt, PetscInt d, PetscBool first, PetscBool last)
+/* the sweep's units from sp->u on, then its end; dim a constant where it
+   is called (Sweep picks 2D or 3D), so the loops over a face's corners and
+   a node's components unroll */
+static inline PetscErrorCode SweepRest(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, const PetscInt dim)
 {
   PetscFunctionBeginUser;
-  if (S->dim == 2) PetscCall(SweepDim(S, ix, fr, dt, d, first, last, 2));
-  else PetscCall(SweepDim(S, ix, fr, dt, d, first, last, 3));
+  if (sp->nprep < S->cells->nnl) { /* (the nodes the Lagrangian phase gave their momentum after the units behind it) */
+    PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
+    PrepNodes(S->cells, dim, sp->first, sp->VL, sp->nprep, S->cells->nnl);
+    sp->nprep = S->cells->nnl;
+    PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
+  }
+  PetscCall(PetscLogEventBegin(EV_Flux, 0, 0, 0, 0));
+  while (sp->u < sp->u1) PetscCall(SweepUnit(S, ix, sp, dt, dim));
+  PetscCall(SweepEnd(S, ix, sp, dim)); /* (ends EV_Flux) */
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
+static PetscErrorCode Sweep(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, PetscInt d, PetscBool first, PetscBool last)
 {
-  PSCells    *C = S->cells;
-  PetscInt    s, d;
-  PSFractions fr;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(&fr, sizeof(fr)));
-  fr.A = C->sA; /* kept between steps */
+  if (!sp->on) PetscCall(SweepBegin(S, ix, sp, d, first, last, S->dim));
+  if (S->dim == 2) PetscCall(SweepRest(S, ix, sp, dt, 2));
+  else PetscCall(SweepRest(S, ix, sp, dt, 3));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static inline PetscErrorCode RegisterEvents(void)
+{
+  PetscFunctionBeginUser;
   if (!EV_Remap) {
     PetscCall(PetscLogEventRegister("PSCellsRemap", 0, &EV_Remap));
     PetscCall(PetscLogEventRegister("PSCellsPrep", 0, &EV_Prep));
@@ -1571,8 +1654,123 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
     PetscCall(PetscLogEventRegister("PSCellsKE", 0, &EV_KE));
     PetscCall(PetscLogEventRegister("PSCellsKEBehind", 0, &EV_KEBehind)); /* (inside PSCellsFlux) */
   }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the remap's progress (allocated on first use), its books zeroed for the
+   step, the fractions' planes kept between steps (C->sA) */
+static PetscErrorCode RemapStart(PSSolver *S, PetscBool behind)
+{
+  PSCells         *C = S->cells;
+  PSSweepProgress *sp;
+
+  PetscFunctionBeginUser;
+  if (!C->rsp) PetscCall(PetscNew(&C->rsp));
+  sp = C->rsp;
+  PetscCall(PetscMemzero(&sp->fr, sizeof(sp->fr)));
+  PetscCall(PetscMemzero(&sp->lost, sizeof(sp->lost)));
+  sp->fr.A  = C->sA;
+  sp->on    = PETSC_FALSE;
+  sp->behind = behind;
+  if (behind && !C->sVR) PetscCall(PetscMalloc1(C->nnl * S->dim, &C->sVR));
+  sp->VL = behind ? C->sVR : C->sVL;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* whether the remap's first sweep can run behind the Lagrangian phase: a
+   scene the cells' pipeline serves (PSCellsPipelined: one rank, no ghost
+   nodes) whose halos exchange nothing (the remap's exchange of the
+   Lagrangian state and momentum before its first sweep is then empty) */
+PetscBool PSCellsRemapBehindOK(const PSSolver *S, const PSIndex *ix)
+{
+  const PSCells *C = S->cells;
+  PetscInt       nu = -1, np = -1;
+
+  if (!PSCellsPipelined(S, ix)) return PETSC_FALSE;
+  if (PetscSFGetGraph(C->sfu, NULL, &nu, NULL, NULL) || PetscSFGetGraph(C->sfp, NULL, &np, NULL, NULL)) return PETSC_FALSE;
+  return nu == 0 && np == 0 ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* the remap's first sweep behind the Lagrangian phase (lagrange.c's
+   pipeline, PSCellsRemapBehindOK): begun before the phase's first unit
+   (PSCellsRemapBehindBegin), then after each of its units of cells
+   (PSCellsRemapBehind) the nodes the phase has given their momentum P^C_i
+   (C->lag.nb units) take their velocities (PrepNodes), and the sweep's
+   units run while the cells they read (through the unit above:
+   FractionsUpTo, the faces' donors' neighbours), with a unit to spare, have
+   their Lagrangian state, short of the box's last three units
+   (FractionsUpTo builds those all at once), and while the nodes they read
+   (through the upper corners of the unit above) have their velocities.
+   The rest of the sweep runs in PSCellsRemap, which finds it begun */
+PetscErrorCode PSCellsRemapBehindBegin(PSSolver *S, const PSIndex *ix)
+{
+  PSCells *C = S->cells;
+
+  PetscFunctionBeginUser;
+  PetscCall(RegisterEvents());
   PetscCall(PetscLogEventBegin(EV_Remap, 0, 0, 0, 0));
-  /* ghosts of the Lagrangian state (volumes, energies) and momentum */
+  PetscCall(RemapStart(S, PETSC_TRUE));
+  BooksSwap(S, C->rsp);
+  PetscCall(SweepBegin(S, ix, C->rsp, C->sweep0 == 0 ? 0 : S->dim - 1, PETSC_TRUE, PETSC_FALSE, S->dim));
+  BooksSwap(S, C->rsp);
+  PetscCall(PetscLogEventEnd(EV_Remap, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+static inline PetscErrorCode RemapBehindDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim)
+{
+  PSCells         *C  = S->cells;
+  PSSweepProgress *sp = C->rsp;
+  const PetscInt   e = dim - 1, unit = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0];
+  const PetscInt   nodes = PetscMin(C->lag.nb * unit, C->nnl);
+  PetscInt         umax = PetscMin(C->lag.next - 3, C->gs[e] + C->gm[e] - 4); /* (the last unit of cells the sweep may read up to, less one) */
+
+  PetscFunctionBeginUser;
+  umax = PetscMin(umax, nodes / unit + ix->gs[e] - PS_PAD - 3); /* (its upper corners' velocities, with a unit to spare) */
+  if (nodes <= sp->nprep && sp->u > umax) PetscFunctionReturn(PETSC_SUCCESS);
+  PetscCall(PetscLogEventBegin(EV_Remap, 0, 0, 0, 0));
+  BooksSwap(S, sp);
+  if (nodes > sp->nprep) {
+    PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
+    PrepNodes(C, dim, sp->first, sp->VL, sp->nprep, nodes);
+    sp->nprep = nodes;
+    PetscCall(PetscLogEventEnd(EV_Prep, 0, 0, 0, 0));
+  }
+  if (sp->u <= umax) {
+    PetscCall(PetscLogEventBegin(EV_Flux, 0, 0, 0, 0));
+    while (sp->u <= umax && sp->u < sp->u1) PetscCall(SweepUnit(S, ix, sp, dt, dim));
+    PetscCall(PetscLogEventEnd(EV_Flux, 0, 0, 0, 0));
+  }
+  BooksSwap(S, sp);
+  PetscCall(PetscLogEventEnd(EV_Remap, 0, 0, 0, 0));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+PetscErrorCode PSCellsRemapBehind(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (S->dim == 2) PetscCall(RemapBehindDim(S, ix, dt, 2));
+  else PetscCall(RemapBehindDim(S, ix, dt, 3));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the remap: its sweeps (the first perhaps begun behind the Lagrangian
+   phase), its books added to the step's */
+PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
+{
+  PSCells         *C = S->cells;
+  PSSweepProgress *sp;
+  PetscInt         s, d, q;
+
+  PetscFunctionBeginUser;
+  PetscCall(RegisterEvents());
+  PetscCall(PetscLogEventBegin(EV_Remap, 0, 0, 0, 0));
+  if (!C->rsp || !C->rsp->on) PetscCall(RemapStart(S, PETSC_FALSE));
+  sp = C->rsp;
+  BooksSwap(S, sp);
+  /* ghosts of the Lagrangian state (volumes, energies) and momentum (none
+     where the first sweep ran behind the Lagrangian phase:
+     PSCellsRemapBehindOK) */
   PetscCall(PSCellsExchange(C));
   PetscCall(PSHaloBcast(C->sfp, C->P));
   for (s = 0; s < S->dim; s++) {
@@ -1581,11 +1779,18 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
        would change the owned cells after it, comes after the last sweep
        alone: a face between two ranks is fluxed by both, each from its own
        copy of the donor, so the copies must agree) */
-    PetscCall(Sweep(S, ix, &fr, dt, d, s == 0 ? PETSC_TRUE : PETSC_FALSE, s == S->dim - 1 ? PETSC_TRUE : PETSC_FALSE));
+    PetscCall(Sweep(S, ix, sp, dt, d, s == 0 ? PETSC_TRUE : PETSC_FALSE, s == S->dim - 1 ? PETSC_TRUE : PETSC_FALSE));
   }
   C->sweep0 = 1 - C->sweep0;
-  C->sA = fr.A;
+  C->sA     = sp->fr.A;
   PetscCall(PSCellsExchange(C)); /* the heat of the KE fix */
+  /* the remap's books into the step's */
+  BooksSwap(S, sp);
+  S->lost_local.mass += sp->lost.mass;
+  for (q = 0; q < 3; q++) S->lost_local.p[q] += sp->lost.p[q];
+  S->lost_local.kinetic += sp->lost.kinetic;
+  S->lost_local.internal += sp->lost.internal;
+  sp->behind = PETSC_FALSE;
   PetscCall(PetscLogEventEnd(EV_Remap, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
