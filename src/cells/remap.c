@@ -1213,6 +1213,23 @@ typedef struct {
    is this d_i, as each sweep's kinetic energy before it is the one after
    the sweep before; the heat is then not carried by the later sweeps, and
    the cells' ghosts need no exchange between sweeps) */
+/* a row's values a[0 .. n) in PS_SUM_LANES partial sums, a[j] into sum j
+   mod PS_SUM_LANES (a multiple of 2 and 3: with dim values per node, sum k
+   holds component k mod dim), each in the row's order: the books' sums of
+   a row (KEUnit's cut, HeatUnit's heat), added into them in the sums'
+   order.  One sum in the row's order was a chain of additions each waiting
+   for the one before (4 cycles a value) */
+#define PS_SUM_LANES 12
+static inline void SumLanes(const PetscReal *a, PetscInt n, PetscReal acc[PS_SUM_LANES])
+{
+  PetscInt j, k;
+  for (k = 0; k < PS_SUM_LANES; k++) acc[k] = 0.0;
+  for (j = 0; j + PS_SUM_LANES <= n; j += PS_SUM_LANES)
+#pragma GCC unroll 12
+    for (k = 0; k < PS_SUM_LANES; k++) acc[k] += a[j + k];
+  for (k = 0; j + k < n; k++) acc[k] += a[j + k];
+}
+
 static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, PetscBool last, PetscInt r, const PetscReal *VL, const PetscReal *mcn, const PetscReal *mco, PetscReal lost[3])
 {
   PSCells        *C = S->cells;
@@ -1241,9 +1258,13 @@ static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw,
 #pragma GCC ivdep /* (P, dP, VL, mcn and mco are apart) */
       for (x = xa; x < xb; x++) KEBounds(dim, sw->sd, orow + x, inm, inp, mcn, mco, mass_min, VL, nv, P, &dP[dim * (x - x0)]);
     }
-    /* what was cut, in the order of the nodes (the same sums) */
-    for (x = x0; x < x1; x++)
-      for (q = 0; q < dim; q++) cut[q] += dP[dim * (x - x0) + q];
+    /* what was cut, the row's in partial sums (SumLanes) */
+    {
+      PetscReal acc[PS_SUM_LANES];
+      PetscInt  k;
+      SumLanes(dP, dim * (x1 - x0), acc);
+      for (k = 0; k < PS_SUM_LANES; k++) cut[k % dim] += acc[k];
+    }
     PSNodeBCRow(S, dim, orow, x0, x1, i[1], i[2], P); /* the boundary conditions */
     /* d_i / (2^dim m_i), over the row */
     if (last)
@@ -1284,20 +1305,21 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
   for (a = 0; a < (1 << dim); a++) off[a] = C->K.off[a];
   i[2] = dim == 3 ? c : 0;
   for (i[1] = dim == 3 ? C->cs[1] : c; i[1] < (dim == 3 ? C->ce[1] : c + 1); i[1]++) {
-    PetscInt ci0, o00;
+    PetscInt   ci0, o00;
+    PetscReal *H = C->sW - C->cs[0]; /* (each cell's heat along the row, H[i], summed after it) */
     PSCellsRow(C, ix, dim, i[1], i[2], &ci0, &o00, NULL, NULL); /* (cell x: ci0 + x, its lower corner node o00 + x) */
     for (i[0] = C->cs[0]; i[0] < C->ce[0]; i[0]++) {
       const PetscInt ci = ci0 + i[0], o0 = o00 + i[0];
       PetscReal     *u = &U[ms * ci], Mc = Mcell[ci], dE = 0.0;
       PetscInt       m0, m1, b;
       /* a run of cells of one gas s (with mass: M_c = M_s): their heat in
-         SIMD lanes, its sum in the cells' order after them */
+         SIMD lanes */
       if (lanes && sole[ci] >= 0) {
         const PetscInt s = sole[ci];
         b = i[0] + PSCellsSoleRun(&sole[ci], C->ce[0] - i[0]);
         if (b - i[0] >= PS_LANES_RUN) {
           const PetscInt   len = b - i[0];
-          PetscReal       *B   = &U[PS_CQ * ci + s * mst], *W = C->sW;
+          PetscReal       *B   = &U[PS_CQ * ci + s * mst], *W = &H[i[0]];
           const PetscReal *Mr  = &Mcell[ci], *Kr = &K[o0];
           PetscInt         x;
 #pragma GCC ivdep
@@ -1309,19 +1331,27 @@ static inline void HeatUnit(PSSolver *S, const PSIndex *ix, const PetscInt dim, 
             W[x]                 = dEx * Mr[x];
             over += PSCellsOverRoom(0.0 + B[PS_CQ * x + PS_CV], Vc * 1.0, Vc); /* (s has mass: it is the cell's sole; the fit's lanes' test) */
           }
-          for (x = 0; x < len; x++) heat += W[x];
           i[0] = b - 1;
           continue;
         }
       }
+      H[i[0]] = 0.0;
       if (Mc <= 0.0) continue;
       /* (a node without mass holds d_i = 0: above, and its owner's value
          on the ghosts) */
       for (a = 0; a < (1 << dim); a++) dE += K[o0 + off[a]]; /* per unit of the cell's mass */
       PSCellsSoleRange(sole[ci], nm, &m0, &m1); /* the materials present, as found after the sweep (PSCellsPresent) */
       for (m = m0; m < m1; m++) u[m * mst + PS_CE] += dE * u[m * mst + PS_CM];
-      heat += dE * Mc;
+      H[i[0]] = dE * Mc;
       over += PSCellsOverRoom(PSCellsVolumeWithMass(C, u, m0, m1), Vc * 1.0, Vc); /* (the fit's test of one cell) */
+    }
+    /* the row's heat into the books, in partial sums (SumLanes), the
+       same with -run_lanes 1 */
+    {
+      PetscReal acc[PS_SUM_LANES];
+      PetscInt  k;
+      SumLanes(C->sW, C->ce[0] - C->cs[0], acc);
+      for (k = 0; k < PS_SUM_LANES; k++) heat += acc[k];
     }
   }
   *heat_sum = heat;
