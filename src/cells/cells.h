@@ -481,7 +481,7 @@ PETSC_INTERN PetscErrorCode PSCellsLagrange(PSSolver *, const PSIndex *, PetscRe
 PETSC_INTERN PetscErrorCode PSCellsRemap(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscBool      PSCellsRemapBehindOK(const PSSolver *, const PSIndex *);
 PETSC_INTERN PetscErrorCode PSCellsRemapBehindBegin(PSSolver *, const PSIndex *);
-PETSC_INTERN PetscErrorCode PSCellsRemapBehind(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN PetscErrorCode PSCellsRemapBehind(PSSolver *, const PSIndex *, PetscReal dt, PetscLogEvent pause);
 PETSC_INTERN PetscErrorCode PSCellsFitMarkers(PSSolver *, PetscBool fit);
 PETSC_INTERN PetscErrorCode PSCellsMaxSpeed(PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsTotals(PSSolver *, PetscReal loc[6], PetscReal *pmax);

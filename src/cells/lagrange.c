@@ -1215,11 +1215,7 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
     PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, u + PS_PAD + 1);
     gn = u + PS_PAD + 1;
     if (u > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u - 1, u, &pp));
-    if (behind && u > u0) {
-      PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0));
-      PetscCall(PSCellsRemapBehind(S, ix, dt));
-      PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
-    }
+    if (behind && u > u0) PetscCall(PSCellsRemapBehind(S, ix, dt, EV_Pipe)); /* (EV_Pipe paused while it runs) */
   }
   ToGridEnd(S, ix, dim, &tp);
   PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, PETSC_MAX_INT);
