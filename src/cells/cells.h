@@ -91,6 +91,24 @@ typedef struct {
   PetscReal smax;  /* the largest c + |v| + viscous term so far (m/s) */
 } PSLagProgress;
 
+/* The one-rank pipeline's window (lagrange.c, PSCellsPipeline): its
+   temporaries, the P2G's nodal velocities (sVL), the predictor's v^n (vo)
+   and force changes (df), per node, and the half-step values per cell
+   (hs), are read within a few units of where they are written, so the
+   pipeline keeps only a window of PS_WIN_UNITS units of each (in the
+   caches, never written back to memory) and points C->sVL, vo, df and hs
+   at it shifted by its first unit, so the kernels index it as the whole
+   arrays (node o at vo[dim o + d]); when the units a phase is about to
+   write pass its end, the units still read move to its start */
+#define PS_WIN_UNITS 16
+typedef struct {
+  PetscReal *buf;                 /* the four windows, one allocation (NULL until the first pipelined step) */
+  PetscReal *vl, *vo, *df, *hs;   /* each window's start */
+  PetscReal *full[4];             /* the whole arrays (sVL, vo, df, hs), which the pipeline does not touch */
+  PetscInt   nu, cu;              /* reals per unit: of a node array (dim per node), and of hs (per cell around the owned nodes) */
+  PetscInt   bn, bc;              /* the first local unit of nodes, and of cells (from C->xs), in the windows */
+} PSCellsWindow;
+
 typedef struct PSCells_ {
   PetscInt  dim;
   PetscInt  nmat;                 /* cell materials */
@@ -151,6 +169,7 @@ typedef struct PSCells_ {
   PetscInt  over;                 /* in a scene without marker bodies: the owned cells whose materials' volume exceeds the cell's (the fit's test, PSCellsFitMarkers), counted by the remap's heat after its last sweep; -1: not counted */
   PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
   PSLagProgress lag;              /* the Lagrangian phase's progress through the step (lagrange.c) */
+  PSCellsWindow win;              /* the pipeline's window of its temporaries' units (lagrange.c) */
   PetscReal sat[7];               /* the cell that sets it: centre x (m, 3), c, |v|, viscous term (m/s), density (kg/m^3) */
   PSCorners  K;                   /* every cell's corners (lagrange.c) */
   PetscReal *Kmat;                /* bulk modulus of each material at its reference state (Pa): markers' compliance */

@@ -1191,6 +1191,70 @@ PetscBool PSCellsPipelined(const PSSolver *S, const PSIndex *ix)
   return PETSC_TRUE;
 }
 
+/* the window's pointers at its first units (bn, bc): C->sVL, vo, df and hs
+   shifted so that the whole arrays' indices land in the windows (a pointer
+   below the window's start, never dereferenced below it) */
+static inline void WindowPoint(PSCells *C)
+{
+  PSCellsWindow *w = &C->win;
+  C->sVL           = w->vl - w->bn * w->nu;
+  C->vo            = w->vo - w->bn * w->nu;
+  C->df            = w->df - w->bn * w->nu;
+  C->hs            = w->hs - w->bc * w->cu;
+}
+
+/* the window at the step's start (allocated at the first): its first units
+   the arrays' first */
+static inline PetscErrorCode WindowStart(PSSolver *S, const PSIndex *ix, const PetscInt dim)
+{
+  PSCells       *C = S->cells;
+  PSCellsWindow *w = &C->win;
+
+  PetscFunctionBeginUser;
+  if (!w->buf) {
+    w->nu      = dim * (dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0]);
+    w->cu      = PSCellsHalfSize(C) * (dim == 3 ? C->xm[0] * C->xm[1] : C->xm[0]);
+    w->full[0] = C->sVL;
+    w->full[1] = C->vo;
+    w->full[2] = C->df;
+    w->full[3] = C->hs;
+    PetscCall(PetscMalloc1(PS_WIN_UNITS * (3 * w->nu + w->cu), &w->buf));
+    w->vl = w->buf;
+    w->vo = w->vl + PS_WIN_UNITS * w->nu;
+    w->df = w->vo + PS_WIN_UNITS * w->nu;
+    w->hs = w->df + PS_WIN_UNITS * w->nu;
+  }
+  w->bn = 0;
+  w->bc = 0;
+  WindowPoint(C);
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the window made to hold the local units of nodes [n0, n1) and of cells
+   [c0, c1) (from C->xs): n0 and c0 the first still read, n1 and c1 past
+   the last about to be written.  Where n1 or c1 passes the window's end,
+   the units from n0 (c0) on move to its start */
+static inline PetscErrorCode WindowFit(PSCells *C, PetscInt n0, PetscInt n1, PetscInt c0, PetscInt c1)
+{
+  PSCellsWindow *w = &C->win;
+
+  PetscFunctionBeginUser;
+  n0 = PetscMax(n0, w->bn);
+  c0 = PetscMax(c0, w->bc);
+  PetscCheck(n1 - n0 <= PS_WIN_UNITS && c1 - c0 <= PS_WIN_UNITS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the pipeline's window of %d units cannot hold node units [%" PetscInt_FMT ", %" PetscInt_FMT ") and cell units [%" PetscInt_FMT ", %" PetscInt_FMT ")", PS_WIN_UNITS, n0, n1, c0, c1);
+  if (n1 > w->bn + PS_WIN_UNITS || c1 > w->bc + PS_WIN_UNITS) {
+    const PetscInt sn = n0 - w->bn, sc = c0 - w->bc;
+    PetscCall(PetscArraymove(w->vl, w->vl + sn * w->nu, (PS_WIN_UNITS - sn) * w->nu));
+    PetscCall(PetscArraymove(w->vo, w->vo + sn * w->nu, (PS_WIN_UNITS - sn) * w->nu));
+    PetscCall(PetscArraymove(w->df, w->df + sn * w->nu, (PS_WIN_UNITS - sn) * w->nu));
+    PetscCall(PetscArraymove(w->hs, w->hs + sc * w->cu, (PS_WIN_UNITS - sc) * w->cu));
+    w->bn = n0;
+    w->bc = c0;
+    WindowPoint(C);
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
 static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength)
 {
   PSCells          *C = S->cells;
@@ -1205,18 +1269,26 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
   PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
   PetscCall(ToGridStart(S, &tp));
   PredictStart(S, ix, dim, &pp);
+  if (behind) PetscCall(WindowStart(S, ix, dim)); /* (where the remap, which reads sVL otherwise, runs behind: it reads sVR) */
   if (behind) { /* (the remap's own event: PSCellsRemap; the pipeline's paused) */
     PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0));
     PetscCall(PSCellsRemapBehindBegin(S, ix));
     PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
   }
   for (u = u0; u < u1; u++) {
+    /* the window: from the first units still read, the Lagrangian phase's
+       nodes (vo) and cells (hs), the corrector's nodes (vo, df), the
+       predictor's cells of unit u - 1 and their corners (hs, df), the P2G's
+       cells of unit u and their corners (hs, sVL), to the P2G's and the
+       predictor's nodes through the upper corners of unit u + 1 */
+    if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u - 1 + PS_PAD - ix->gs[e]), u + 2 + PS_PAD - ix->gs[e], PetscMin(C->lag.next, u - 1) - C->xs[e], u + 1 - C->xs[e]));
     PetscCall(ToGridUnits(S, ix, dt, dim, strength, u, u + 1, &tp));
     PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, u + PS_PAD + 1);
     gn = u + PS_PAD + 1;
     if (u > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u - 1, u, &pp));
     if (behind && u > u0) PetscCall(PSCellsRemapBehind(S, ix, dt, EV_Pipe)); /* (EV_Pipe paused while it runs) */
   }
+  if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u1 - 2 + PS_PAD - ix->gs[e]), ix->gm[e], PetscMin(C->lag.next, u1 - 1) - C->xs[e], u1 - C->xs[e])); /* (the rest: every unit above them) */
   ToGridEnd(S, ix, dim, &tp);
   PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, PETSC_MAX_INT);
   if (u1 > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u1 - 1, u1, &pp));
