@@ -1269,9 +1269,9 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
   PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
   PetscCall(ToGridStart(S, &tp));
   PredictStart(S, ix, dim, &pp);
-  if (behind) PetscCall(WindowStart(S, ix, dim)); /* (where the remap, which reads sVL otherwise, runs behind: it reads sVR) */
-  if (behind) { /* (the remap's own event: PSCellsRemap; the pipeline's paused) */
-    PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0));
+  if (behind) {
+    PetscCall(WindowStart(S, ix, dim)); /* (where the remap, which reads sVL otherwise, runs behind: it reads sVR) */
+    PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0)); /* (the remap's own event: PSCellsRemap; the pipeline's paused) */
     PetscCall(PSCellsRemapBehindBegin(S, ix));
     PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
   }

@@ -1758,7 +1758,7 @@ static inline PetscErrorCode RemapBehindDim(PSSolver *S, const PSIndex *ix, Pets
   PSSweepProgress *sp = C->rsp;
   const PetscInt   e = dim - 1, unit = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0];
   const PetscInt   nodes = PetscMin(C->lag.nb * unit, C->nnl);
-  PetscInt         umax = PetscMin(C->lag.next - 3, C->gs[e] + C->gm[e] - 4); /* (the last unit of cells the sweep may read up to, less one) */
+  PetscInt         umax = PetscMin(C->lag.next - 3, C->gs[e] + C->gm[e] - 4); /* (the last unit it may run: the phase has done the cells two units above it, and the box's last three units wait) */
 
   PetscFunctionBeginUser;
   umax = PetscMin(umax, nodes / unit + ix->gs[e] - PS_PAD - 3); /* (its upper corners' velocities, with a unit to spare) */
