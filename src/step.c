@@ -55,6 +55,7 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PSFields        f;
   PetscInt        box[3][2];
   PetscReal       smax, dt;
+  PetscBool       pipe;
 
   PetscFunctionBeginUser;
   PetscCall(PSComputeDt(S, t_stop));
@@ -63,12 +64,13 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PetscCall(PSFieldsGet(S, &f));
   PetscCall(EnsureScratch(S, f.n));
 
+  pipe = PSCellsPipelined(S, &ix);
   PetscCall(PSGridActiveBox(S, &f, box));
-  PetscCall(PSGridReset(S, &ix, box));
+  PetscCall(PSGridReset(S, &ix, box, pipe)); /* (the pipeline writes the grid's every node itself) */
   if (musl) PetscCall(PSMUSLP2G(S, &f, &ix));
   else PetscCall(PSAPICP2G(S, &f, &ix, dt));
   if (S->contact) PetscCall(PSContactP2G(S, &f, &ix));
-  if (PSCellsPipelined(S, &ix)) PetscCall(PSCellsPipeline(S, &ix, dt)); /* the three phases below as one pipeline of units (lagrange.c) */
+  if (pipe) PetscCall(PSCellsPipeline(S, &ix, dt)); /* the three phases below as one pipeline of units (lagrange.c) */
   else {
     if (S->cells) PetscCall(PSCellsToGrid(S, &ix, dt));
     PetscCall(PSGridSolve(S, &ix, dt));

@@ -68,7 +68,7 @@ PETSC_INTERN PetscErrorCode PSFieldsRestore(PSSolver *, PSFields *);
 /* the phases */
 PETSC_INTERN PetscErrorCode PSComputeDt(PSSolver *, PetscReal t_stop);
 PETSC_INTERN PetscErrorCode PSGridActiveBox(PSSolver *, const PSFields *, PetscInt box[3][2]);
-PETSC_INTERN PetscErrorCode PSGridReset(PSSolver *, const PSIndex *, const PetscInt box[3][2]);
+PETSC_INTERN PetscErrorCode PSGridReset(PSSolver *, const PSIndex *, const PetscInt box[3][2], PetscBool whole);
 PETSC_INTERN void           PSGridVelocity(const PSSolver *, const PSIndex *, const PetscReal *m, PetscInt ms, PetscReal *mv, PetscInt vs);
 PETSC_INTERN void           PSGridUpdateMUSL(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g);
 PETSC_INTERN void           PSGridUpdateMUSLUnits(const PSSolver *, const PSIndex *, PetscReal dt, PetscReal *g, PetscInt u0, PetscInt u1);

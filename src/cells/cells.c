@@ -177,6 +177,7 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->hm));
   PetscCall(PetscFree4((*C)->sK, (*C)->sVL, (*C)->sdP, (*C)->sW));
   PetscCall(PetscFree((*C)->sVR));
+  PetscCall(PetscFree((*C)->acc));
   PetscCall(PetscFree((*C)->rsp));
   PetscCall(PetscSFDestroy(&(*C)->sfk));
   PetscCall(PetscSFDestroy(&(*C)->sfp));

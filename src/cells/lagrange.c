@@ -336,14 +336,14 @@ static inline void ToGridGasLanes(const PSSolver *S, const PetscInt dim, PetscIn
 }
 
 /* the corner masses and forces of a row's lane cells [l0, l1) (ToGridGasLanes',
-   or the predictor's force changes, PredictGasLanes') to the nodes g (dof
-   per node: the mass at 0, the force at fo), in the cells' loops' order: a
-   node of the run takes the corner B (one along x beyond A) of cell l - 1,
-   then the corner A of cell l, each where own (the row's owned corners) has
-   it; the pairs of corners (A, B) in SIMD lanes.  Mq: the corner masses'
-   plane (NULL: none); Fq: corner a's component d in plane a dim + d, of w
-   reals each */
-static inline void GasLanesNodes(const PetscInt dim, const PSCorners *K, PetscInt o0, PetscInt own, PetscInt l0, PetscInt l1, PetscInt dof, PetscInt fo, PetscInt w, const PetscReal *Mq, const PetscReal *Fq, PetscReal *g)
+   or the predictor's force changes, PredictGasLanes') to the nodes (node o's
+   mass at gm[sm o], its force's component d at gf[sf o + sc d]), in the
+   cells' loops' order: a node of the run takes the corner B (one along x
+   beyond A) of cell l - 1, then the corner A of cell l, each where own (the
+   row's owned corners) has it; the pairs of corners (A, B) in SIMD lanes.
+   Mq: the corner masses' plane (NULL: none); Fq: corner a's component d in
+   plane a dim + d, of w reals each */
+static inline void GasLanesNodes(const PetscInt dim, const PSCorners *K, PetscInt o0, PetscInt own, PetscInt l0, PetscInt l1, PetscInt w, const PetscReal *Mq, const PetscReal *Fq, PetscReal *gm, const PetscInt sm, PetscReal *gf, const PetscInt sf, const PetscInt sc)
 {
   const PetscInt nco = 1 << dim;
   PetscInt       A, l, d;
@@ -351,34 +351,34 @@ static inline void GasLanesNodes(const PetscInt dim, const PSCorners *K, PetscIn
   for (A = 0; A < nco; A += 2) {
     const PetscInt  B = A + 1, oA = o0 + K->off[A];
     const PetscBool fA = (own >> A) & 1, fB = (own >> B) & 1;
-    PetscReal      *gA = &g[dof * oA];
+    PetscReal      *mA = Mq ? &gm[sm * oA] : NULL, *fAo = &gf[sf * oA];
     /* (node oA + l: cell l - 1's corner B (oA + l = o0 + (l - 1) + off[B]), then cell l's A) */
     if (fA) {
-      if (Mq) gA[dof * l0] += Mq[l0];
-      for (d = 0; d < dim; d++) gA[dof * l0 + fo + d] += Fq[(A * dim + d) * w + l0];
+      if (Mq) mA[sm * l0] += Mq[l0];
+      for (d = 0; d < dim; d++) fAo[sf * l0 + sc * d] += Fq[(A * dim + d) * w + l0];
     }
     if (Mq) {
 #pragma GCC ivdep
       for (l = l0 + 1; l < l1; l++) {
-        PetscReal m = gA[dof * l];
+        PetscReal m = mA[sm * l];
         if (fB) m = m + Mq[l - 1];
         if (fA) m = m + Mq[l];
-        gA[dof * l] = m;
+        mA[sm * l] = m;
       }
     }
 #pragma GCC ivdep
     for (l = l0 + 1; l < l1; l++) {
 #pragma GCC unroll 3
       for (d = 0; d < dim; d++) {
-        PetscReal f = gA[dof * l + fo + d];
+        PetscReal f = fAo[sf * l + sc * d];
         if (fB) f = f + Fq[(B * dim + d) * w + l - 1];
         if (fA) f = f + Fq[(A * dim + d) * w + l];
-        gA[dof * l + fo + d] = f;
+        fAo[sf * l + sc * d] = f;
       }
     }
     if (fB) {
-      if (Mq) gA[dof * l1] += Mq[l1 - 1];
-      for (d = 0; d < dim; d++) gA[dof * l1 + fo + d] += Fq[(B * dim + d) * w + l1 - 1];
+      if (Mq) mA[sm * l1] += Mq[l1 - 1];
+      for (d = 0; d < dim; d++) fAo[sf * l1 + sc * d] += Fq[(B * dim + d) * w + l1 - 1];
     }
   }
 }
@@ -410,10 +410,90 @@ static inline PetscInt ToGridNodes(PSCells *C, const PetscInt dim, PetscInt o0, 
 typedef struct {
   PetscInt n;   /* the next cell's index among the cells around the owned nodes (PSCellsXIdx) */
   PetscInt nb;  /* the local nodes with their P^C_i / m^C_i in C->sVL */
-  PetscInt nxt; /* the first unit of owned nodes without the cell materials' momentum */
+  PetscInt nxt; /* the first unit of owned nodes without the cell materials' momentum (with sums: not yet in G) */
 } PSToGridProgress;
 
-static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength, PetscInt u0, PetscInt u1, PSToGridProgress *tp)
+/* The pipeline's P2G sums (ToGridUnits with sums; lagrange.c's pipeline on
+   one rank, where G's every local node is owned and no marker adds to it):
+   the corners' masses and forces go to planes of two units of nodes, the
+   unit of the cells' lower corners and the one above, C->acc (the mass
+   plane, then dim force planes, of 2 nacc reals each; a unit's nodes in
+   the order of the local array), added in the order they were added to G;
+   once the unit of the lower corners has all its sums, its nodes are
+   written to G whole (ToGridSumsToG), the upper unit's sums move down and
+   the upper unit starts from zero.  G is not zeroed for it (PSGridReset):
+   its nodes are written once a step, each value the same bits the zeroed
+   G and its sums gave, and the P2G's adds are to planes in the caches in
+   SIMD lanes where G's were to every fifth real of an array past the L2 */
+static inline PetscErrorCode ToGridSumsStart(PSSolver *S, const PSIndex *ix, const PetscInt dim)
+{
+  PSCells       *C  = S->cells;
+  const PetscInt nu = dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0];
+
+  PetscFunctionBeginUser;
+  if (!C->acc) {
+    C->nacc = nu;
+    PetscCall(PetscMalloc1(2 * nu * (1 + dim), &C->acc));
+  }
+  PetscCheck(PSGridDof(S) == (dim == 3 ? 8 : 5), PETSC_COMM_SELF, PETSC_ERR_PLIB, "the P2G sums take musl's G of %d reals per node, not %" PetscInt_FMT, dim == 3 ? 8 : 5, PSGridDof(S));
+  PetscCheck(C->nacc == nu, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the P2G sums' units hold %" PetscInt_FMT " nodes, the grid's %" PetscInt_FMT, C->nacc, nu);
+  PetscCall(PetscArrayzero(C->acc, 2 * nu * (1 + dim)));
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* G's nodes of the units [u0, u1) along y (2D) or z (3D) from the sums,
+   unit ra's in the lower of C->acc's two units (any other unit's nodes have
+   no cell's corner: 0): the mass and force, the velocity's slots the
+   cells' momentum P^C added to 0 (as PSGridAddOwnedUnits adds it to the
+   zeroed G), the rest 0; then the upper unit's sums down, the upper unit
+   zeroed, where ra was among them (its successor's sums move down) */
+static inline void ToGridSumsToG(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt u0, PetscInt u1, PetscInt ra)
+{
+  PSCells         *C   = S->cells;
+  const PetscInt   e = dim - 1, dof = dim == 3 ? 8 : 5, fo = dof - dim, nu = C->nacc; /* (musl's G, PSGridDof, a constant: ToGridSumsStart checks it) */
+  const PetscReal *P   = C->P;
+  PetscReal       *g   = S->g, *acc = C->acc;
+  PetscInt         u, q, d, p;
+
+  u0 = PetscMax(u0, ix->gs[e]);
+  u1 = PetscMin(u1, ix->gs[e] + ix->gm[e]);
+  for (u = u0; u < u1; u++) {
+    const PetscInt o0 = (u - ix->gs[e]) * nu;
+    if (u == ra) {
+#pragma GCC ivdep
+      for (q = 0; q < nu; q++) {
+        PetscReal       *gn = &g[dof * (o0 + q)];
+        const PetscReal *pn = &P[dim * (o0 + q)];
+        gn[0] = acc[q];
+#pragma GCC unroll 3
+        for (d = 0; d < dim; d++) gn[1 + d] = 0.0 + pn[d];
+        for (d = 1 + dim; d < fo; d++) gn[d] = 0.0;
+#pragma GCC unroll 3
+        for (d = 0; d < dim; d++) gn[fo + d] = acc[2 * nu * (1 + d) + q];
+      }
+    } else {
+#pragma GCC ivdep
+      for (q = 0; q < nu; q++) {
+        PetscReal       *gn = &g[dof * (o0 + q)];
+        const PetscReal *pn = &P[dim * (o0 + q)];
+        gn[0] = 0.0;
+#pragma GCC unroll 3
+        for (d = 0; d < dim; d++) gn[1 + d] = 0.0 + pn[d];
+        for (d = 1 + dim; d < dof; d++) gn[d] = 0.0;
+      }
+    }
+  }
+  if (ra >= u0 && ra < u1)
+    for (p = 0; p < 1 + dim; p++) {
+      PetscReal *a = &acc[2 * nu * p];
+      for (q = 0; q < nu; q++) {
+        a[q]      = a[nu + q];
+        a[nu + q] = 0.0;
+      }
+    }
+}
+
+static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength, const PetscBool sums, PetscInt u0, PetscInt u1, PSToGridProgress *tp)
 {
   PSCells        *C = S->cells;
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
@@ -421,7 +501,8 @@ static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscRe
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
   const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = !strength && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (without strength; -run_lanes 1: the scalar loop alone, for checks) */
-  PetscReal      *g = S->g, *W = C->sW;
+  const PetscInt  sm = sums ? 1 : dof, sf = sums ? 1 : dof, sc = sums ? 2 * C->nacc : 1; /* (node o's mass at gm[sm o], its force's component d at gf[sf o + sc d]: G's, or the sums': ToGridSumsStart) */
+  PetscReal      *gm = S->g, *gf = S->g + fo, *W = C->sW;
   PetscInt        i, j, k, m, a, d, e, n = tp->n, orow, nb = tp->nb, nxt = tp->nxt, un;
 
   PetscFunctionBeginUser;
@@ -437,6 +518,11 @@ static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscRe
      without it) */
   for (un = u0; un < u1; un++) {
     k = dim == 3 ? un : C->xs[2];
+    if (sums) { /* (the sums' two units: the unit's lower corners', un + PS_PAD, and its upper corners') */
+      const PetscInt b = (un + PS_PAD - ix->gs[dim - 1]) * C->nacc;
+      gm = C->acc - b;
+      gf = C->acc + 2 * C->nacc - b;
+    }
     for (j = dim == 3 ? C->xs[1] : un; j < (dim == 3 ? C->ce[1] : un + 1); j++) {
       PetscInt ci0, oc0, xa, xb;
       nb = ToGridNodes(C, dim, nb, PSCellsNodesThrough(ix, dim, C->nnl, dim == 3 ? k : j));
@@ -456,7 +542,7 @@ static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscRe
           const PetscInt l0 = i - C->xs[0];
           PetscInt       l1 = l0 + 1;
           l1 = PSLanesFlagRun(&W[PS_GL_FLAG * nw], l1, PetscMin(xb, C->ce[0]) - C->xs[0]); /* (xb may lie beyond the row's cells) */
-          GasLanesNodes(dim, &C->K, oc0 + C->xs[0], orow, l0, l1, dof, fo, nw, &W[PS_GL_MC * nw], &W[PS_GL_F * nw], g);
+          GasLanesNodes(dim, &C->K, oc0 + C->xs[0], orow, l0, l1, nw, &W[PS_GL_MC * nw], &W[PS_GL_F * nw], gm, sm, gf, sf, sc);
           n += l1 - l0 - 1;
           i += l1 - l0 - 1;
           continue;
@@ -496,26 +582,28 @@ static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscRe
         }
         kap = HourglassKappa(&C->K, Mc, cmax);
         for (a = 0; a < nco; a++) {
-          PetscReal *gn = &g[dof * (oc + C->K.off[a])];
+          const PetscInt o = oc + C->K.off[a];
           if (!((own >> a) & 1)) continue;
-          gn[0] += Mc / nco;
+          gm[sm * o] += Mc / nco;
           for (d = 0; d < dim; d++) {
             PetscReal fd = 0.0;
             if (strength)
               for (e = 0; e < dim; e++) fd -= sig[d][e] * C->K.gN[a][e];
             else fd -= sig[d][d] * C->K.gN[a][d];
             for (e = 0; e < nh; e++) fd -= kap * PSHourglassSign(a, e) * hg[e][d];
-            gn[fo + d] += fs * fd;
+            gf[sf * o + sc * d] += fs * fd;
           }
         }
       }
       if (dim == 2) {
-        PSGridAddOwnedUnits(S, ix, C->P, dim, g + 1, dof, nxt, j + PS_PAD + 1);
+        if (sums) ToGridSumsToG(S, ix, dim, nxt, j + PS_PAD + 1, j + PS_PAD);
+        else PSGridAddOwnedUnits(S, ix, C->P, dim, S->g + 1, dof, nxt, j + PS_PAD + 1);
         nxt = j + PS_PAD + 1;
       }
     }
     if (dim == 3) {
-      PSGridAddOwnedUnits(S, ix, C->P, dim, g + 1, dof, nxt, k + PS_PAD + 1);
+      if (sums) ToGridSumsToG(S, ix, dim, nxt, k + PS_PAD + 1, k + PS_PAD);
+      else PSGridAddOwnedUnits(S, ix, C->P, dim, S->g + 1, dof, nxt, k + PS_PAD + 1);
       nxt = k + PS_PAD + 1;
     }
   }
@@ -526,23 +614,26 @@ static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscRe
 }
 
 /* the P2G's start: the EOS cache's slots (PSCellsEOSCache: each row's values
-   in ToGridUnits, before its cells read them) */
-static inline PetscErrorCode ToGridStart(PSSolver *S, PSToGridProgress *tp)
+   in ToGridUnits, before its cells read them), the sums' zero where sums */
+static inline PetscErrorCode ToGridStart(PSSolver *S, const PSIndex *ix, const PetscInt dim, const PetscBool sums, PSToGridProgress *tp)
 {
   PetscFunctionBeginUser;
   PetscCall(PSCellsEOSSlots(S));
+  if (sums) PetscCall(ToGridSumsStart(S, ix, dim));
   tp->n   = 0;
   tp->nb  = 0;
   tp->nxt = PETSC_MIN_INT;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
-/* the nodes the P2G's units left */
-static inline void ToGridEnd(PSSolver *S, const PSIndex *ix, const PetscInt dim, const PSToGridProgress *tp)
+/* the nodes the P2G's units left (with sums: unit nxt's, the upper corners'
+   of the last unit, in the sums' lower unit) */
+static inline void ToGridEnd(PSSolver *S, const PSIndex *ix, const PetscInt dim, const PetscBool sums, const PSToGridProgress *tp)
 {
   PSCells *C = S->cells;
   (void)ToGridNodes(C, dim, tp->nb, C->nnl);
-  PSGridAddOwnedUnits(S, ix, C->P, dim, S->g + 1, PSGridDof(S), tp->nxt, PETSC_MAX_INT);
+  if (sums) ToGridSumsToG(S, ix, dim, tp->nxt, PETSC_MAX_INT, tp->nxt);
+  else PSGridAddOwnedUnits(S, ix, C->P, dim, S->g + 1, PSGridDof(S), tp->nxt, PETSC_MAX_INT);
 }
 
 /* the cells' mass and force to the nodes: dim and strength constants where
@@ -557,9 +648,9 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
-  PetscCall(ToGridStart(S, &tp));
-  PetscCall(ToGridUnits(S, ix, dt, dim, strength, C->xs[dim - 1], C->ce[dim - 1], &tp));
-  ToGridEnd(S, ix, dim, &tp);
+  PetscCall(ToGridStart(S, ix, dim, PETSC_FALSE, &tp));
+  PetscCall(ToGridUnits(S, ix, dt, dim, strength, PETSC_FALSE, C->xs[dim - 1], C->ce[dim - 1], &tp));
+  ToGridEnd(S, ix, dim, PETSC_FALSE, &tp);
   PetscCall(PetscLogEventEnd(EV_C2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -996,7 +1087,7 @@ static inline PetscErrorCode PredictUnits(PSSolver *S, const PSIndex *ix, PetscR
               for (e = 0; e < nh * dim; e++) hx[1 + e] = W[(pg + e) * nw + x];
             }
           }
-          GasLanesNodes(dim, &C->K, oc0 + C->xs[0], orow, l, l1, dim, 0, nw, NULL, &W[PS_PL_F * nw], C->df);
+          GasLanesNodes(dim, &C->K, oc0 + C->xs[0], orow, l, l1, nw, NULL, &W[PS_PL_F * nw], NULL, 0, C->df, dim, 1);
           n += l1 - l - 1;
           i += l1 - l - 1;
           continue;
@@ -1267,7 +1358,7 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
   PetscFunctionBeginUser;
   if (!EV_Pipe) PetscCall(PetscLogEventRegister("PSCellsPipeline", 0, &EV_Pipe));
   PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
-  PetscCall(ToGridStart(S, &tp));
+  PetscCall(ToGridStart(S, ix, dim, PETSC_TRUE, &tp)); /* (the P2G's sums: G is not zeroed, PSGridReset) */
   PredictStart(S, ix, dim, &pp);
   if (behind) {
     PetscCall(WindowStart(S, ix, dim)); /* (where the remap, which reads sVL otherwise, runs behind: it reads sVR) */
@@ -1282,14 +1373,14 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
        cells of unit u and their corners (hs, sVL), to the P2G's and the
        predictor's nodes through the upper corners of unit u + 1 */
     if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u - 1 + PS_PAD - ix->gs[e]), u + 2 + PS_PAD - ix->gs[e], PetscMin(C->lag.next, u - 1) - C->xs[e], u + 1 - C->xs[e]));
-    PetscCall(ToGridUnits(S, ix, dt, dim, strength, u, u + 1, &tp));
+    PetscCall(ToGridUnits(S, ix, dt, dim, strength, PETSC_TRUE, u, u + 1, &tp));
     PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, u + PS_PAD + 1);
     gn = u + PS_PAD + 1;
     if (u > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u - 1, u, &pp));
     if (behind && u > u0) PetscCall(PSCellsRemapBehind(S, ix, dt, EV_Pipe)); /* (EV_Pipe paused while it runs) */
   }
   if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u1 - 2 + PS_PAD - ix->gs[e]), ix->gm[e], PetscMin(C->lag.next, u1 - 1) - C->xs[e], u1 - C->xs[e])); /* (the rest: every unit above them) */
-  ToGridEnd(S, ix, dim, &tp);
+  ToGridEnd(S, ix, dim, PETSC_TRUE, &tp);
   PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, PETSC_MAX_INT);
   if (u1 > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u1 - 1, u1, &pp));
   PredictEnd(S, ix, dt, dim, &pp);
