@@ -71,8 +71,8 @@ static PetscErrorCode ZeroBox(Vec v, PetscInt dof, const PetscInt s[3], const Pe
 /* Start of a step: zero what the last step wrote in the local grid arrays
    (they are zero elsewhere), then note this step's box.  The step works on
    the local arrays alone (halo.c); the global vectors serve output.  With
-   whole (the cells' pipeline comes next, lagrange.c, and writes every value
-   of every local node of G, a unit at a time, from sums of its own), G is
+   whole (the cells' P2G comes next and writes every value of every local
+   node of G, a unit at a time, from sums of its own: lagrange.c), G is
    not zeroed: its values are written once a step, not zeroed in a pass of
    their own and then added to (the 256^2 quadrants' G, 2.6 MB, lies past
    this machine's L2) */

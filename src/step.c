@@ -55,7 +55,6 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PSFields        f;
   PetscInt        box[3][2];
   PetscReal       smax, dt;
-  PetscBool       pipe;
 
   PetscFunctionBeginUser;
   PetscCall(PSComputeDt(S, t_stop));
@@ -64,13 +63,12 @@ PetscErrorCode PSSolverStep(PSSolver *S, PetscReal t_stop)
   PetscCall(PSFieldsGet(S, &f));
   PetscCall(EnsureScratch(S, f.n));
 
-  pipe = PSCellsPipelined(S, &ix);
   PetscCall(PSGridActiveBox(S, &f, box));
-  PetscCall(PSGridReset(S, &ix, box, pipe)); /* (the pipeline writes the grid's every node itself) */
+  PetscCall(PSGridReset(S, &ix, box, PSCellsSums(S))); /* (with the sums the cells' P2G writes the grid's every node itself: lagrange.c) */
   if (musl) PetscCall(PSMUSLP2G(S, &f, &ix));
   else PetscCall(PSAPICP2G(S, &f, &ix, dt));
   if (S->contact) PetscCall(PSContactP2G(S, &f, &ix));
-  if (pipe) PetscCall(PSCellsPipeline(S, &ix, dt)); /* the three phases below as one pipeline of units (lagrange.c) */
+  if (PSCellsPipelined(S, &ix)) PetscCall(PSCellsPipeline(S, &ix, dt)); /* the three phases below as one pipeline of units (lagrange.c) */
   else {
     if (S->cells) PetscCall(PSCellsToGrid(S, &ix, dt));
     PetscCall(PSGridSolve(S, &ix, dt));

@@ -413,18 +413,24 @@ typedef struct {
   PetscInt nxt; /* the first unit of owned nodes without the cell materials' momentum (with sums: not yet in G) */
 } PSToGridProgress;
 
-/* The pipeline's P2G sums (ToGridUnits with sums; lagrange.c's pipeline on
-   one rank, where G's every local node is owned and no marker adds to it):
-   the corners' masses and forces go to planes of two units of nodes, the
-   unit of the cells' lower corners and the one above, C->acc (the mass
-   plane, then dim force planes, of 2 nacc reals each; a unit's nodes in
-   the order of the local array), added in the order they were added to G;
-   once the unit of the lower corners has all its sums, its nodes are
-   written to G whole (ToGridSumsToG), the upper unit's sums move down and
-   the upper unit starts from zero.  G is not zeroed for it (PSGridReset):
-   its nodes are written once a step, each value the same bits the zeroed
-   G and its sums gave, and the P2G's adds are to planes in the caches in
-   SIMD lanes where G's were to every fifth real of an array past the L2 */
+/* The P2G's sums (ToGridUnits with sums, in a scene of cells alone with
+   musl, where nothing else adds to G before the cells: PSCellsSums): the
+   corners' masses and forces go to planes of two units of nodes, the unit
+   of the cells' lower corners and the one above, C->acc (the mass plane,
+   then dim force planes, of 2 nacc reals each; a unit's nodes in the order
+   of the local array), added in the order they were added to G; once the
+   unit of the lower corners has all its sums, its nodes are written to G
+   whole (ToGridSumsToG), the upper unit's sums move down and the upper
+   unit starts from zero.  G is not zeroed for it (PSGridReset): its nodes
+   are written once a step, each value the same bits the zeroed G and its
+   sums gave, and the P2G's adds go to planes in the caches in SIMD lanes
+   where G's went to every fifth real of an array past the L2 */
+PetscBool PSCellsSums(const PSSolver *S)
+{
+  const PSCells *C = S->cells;
+  return C && !C->markers && !S->contact && S->run.transfer == PS_TRANSFER_MUSL && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE;
+}
+
 static inline PetscErrorCode ToGridSumsStart(PSSolver *S, const PSIndex *ix, const PetscInt dim)
 {
   PSCells       *C  = S->cells;
@@ -441,47 +447,69 @@ static inline PetscErrorCode ToGridSumsStart(PSSolver *S, const PSIndex *ix, con
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
+/* n nodes of a row into G, from local node o0 on: their sums from a (the
+   node's mass at a[0], its force's component d at a[2 nu (1 + d)]; NULL: no
+   cell's corner, 0), the velocity's slots the cells' momentum P^C added to
+   0 where own (PSGridAddOwnedUnits adds it to the zeroed G on the owned
+   nodes alone), the rest 0 */
+static inline void SumsToGRow(PetscReal *g, const PetscReal *P, const PetscReal *a, const PetscInt dim, PetscInt nu, PetscInt o0, PetscInt n, const PetscBool own)
+{
+  const PetscInt dof = dim == 3 ? 8 : 5, fo = dof - dim; /* (musl's G, PSGridDof: ToGridSumsStart checks it) */
+  PetscInt       q, d;
+
+  if (a) {
+#pragma GCC ivdep
+    for (q = 0; q < n; q++) {
+      PetscReal       *gn = &g[dof * (o0 + q)];
+      const PetscReal *pn = &P[dim * (o0 + q)];
+      gn[0]               = a[q];
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) gn[1 + d] = own ? 0.0 + pn[d] : 0.0;
+      for (d = 1 + dim; d < fo; d++) gn[d] = 0.0;
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) gn[fo + d] = a[2 * nu * (1 + d) + q];
+    }
+  } else {
+#pragma GCC ivdep
+    for (q = 0; q < n; q++) {
+      PetscReal       *gn = &g[dof * (o0 + q)];
+      const PetscReal *pn = &P[dim * (o0 + q)];
+      gn[0]               = 0.0;
+#pragma GCC unroll 3
+      for (d = 0; d < dim; d++) gn[1 + d] = own ? 0.0 + pn[d] : 0.0;
+      for (d = 1 + dim; d < dof; d++) gn[d] = 0.0;
+    }
+  }
+}
+
 /* G's nodes of the units [u0, u1) along y (2D) or z (3D) from the sums,
    unit ra's in the lower of C->acc's two units (any other unit's nodes have
-   no cell's corner: 0): the mass and force, the velocity's slots the
-   cells' momentum P^C added to 0 (as PSGridAddOwnedUnits adds it to the
-   zeroed G), the rest 0; then the upper unit's sums down, the upper unit
-   zeroed, where ra was among them (its successor's sums move down) */
+   no cell's corner), a row at a time, its owned nodes apart from its ghosts
+   (SumsToGRow); then the upper unit's sums down, the upper unit zeroed,
+   where ra was among them (its successor's sums move down) */
 static inline void ToGridSumsToG(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt u0, PetscInt u1, PetscInt ra)
 {
-  PSCells         *C   = S->cells;
-  const PetscInt   e = dim - 1, dof = dim == 3 ? 8 : 5, fo = dof - dim, nu = C->nacc; /* (musl's G, PSGridDof, a constant: ToGridSumsStart checks it) */
-  const PetscReal *P   = C->P;
-  PetscReal       *g   = S->g, *acc = C->acc;
-  PetscInt         u, q, d, p;
+  PSCells         *C = S->cells;
+  const PetscInt   e = dim - 1, nu = C->nacc, x0 = ix->gs[0], x1 = ix->gs[0] + ix->gm[0], xa = ix->os[0], xb = ix->os[0] + ix->om[0];
+  const PetscReal *P = C->P;
+  PetscReal       *g = S->g, *acc = C->acc;
+  PetscInt         u, q, j, k, p;
 
   u0 = PetscMax(u0, ix->gs[e]);
   u1 = PetscMin(u1, ix->gs[e] + ix->gm[e]);
   for (u = u0; u < u1; u++) {
     const PetscInt o0 = (u - ix->gs[e]) * nu;
-    if (u == ra) {
-#pragma GCC ivdep
-      for (q = 0; q < nu; q++) {
-        PetscReal       *gn = &g[dof * (o0 + q)];
-        const PetscReal *pn = &P[dim * (o0 + q)];
-        gn[0] = acc[q];
-#pragma GCC unroll 3
-        for (d = 0; d < dim; d++) gn[1 + d] = 0.0 + pn[d];
-        for (d = 1 + dim; d < fo; d++) gn[d] = 0.0;
-#pragma GCC unroll 3
-        for (d = 0; d < dim; d++) gn[fo + d] = acc[2 * nu * (1 + d) + q];
+    for (k = dim == 3 ? u : ix->gs[2]; k < (dim == 3 ? u + 1 : ix->gs[2] + 1); k++)
+      for (j = dim == 3 ? ix->gs[1] : u; j < (dim == 3 ? ix->gs[1] + ix->gm[1] : u + 1); j++) {
+        const PetscInt   orow = Lidx(ix, x0, j, k);                             /* (the row's first node) */
+        const PetscReal *a    = u == ra ? &acc[orow - o0] : NULL;               /* (its sums) */
+        const PetscBool  rown = j >= ix->os[1] && j < ix->os[1] + ix->om[1] && (dim < 3 || (k >= ix->os[2] && k < ix->os[2] + ix->om[2]));
+        if (rown && xb > xa) {
+          SumsToGRow(g, P, a, dim, nu, orow, xa - x0, PETSC_FALSE);
+          SumsToGRow(g, P, a ? a + xa - x0 : NULL, dim, nu, orow + xa - x0, xb - xa, PETSC_TRUE);
+          SumsToGRow(g, P, a ? a + xb - x0 : NULL, dim, nu, orow + xb - x0, x1 - xb, PETSC_FALSE);
+        } else SumsToGRow(g, P, a, dim, nu, orow, x1 - x0, PETSC_FALSE);
       }
-    } else {
-#pragma GCC ivdep
-      for (q = 0; q < nu; q++) {
-        PetscReal       *gn = &g[dof * (o0 + q)];
-        const PetscReal *pn = &P[dim * (o0 + q)];
-        gn[0] = 0.0;
-#pragma GCC unroll 3
-        for (d = 0; d < dim; d++) gn[1 + d] = 0.0 + pn[d];
-        for (d = 1 + dim; d < dof; d++) gn[d] = 0.0;
-      }
-    }
   }
   if (ra >= u0 && ra < u1)
     for (p = 0; p < 1 + dim; p++) {
@@ -648,9 +676,15 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
-  PetscCall(ToGridStart(S, ix, dim, PETSC_FALSE, &tp));
-  PetscCall(ToGridUnits(S, ix, dt, dim, strength, PETSC_FALSE, C->xs[dim - 1], C->ce[dim - 1], &tp));
-  ToGridEnd(S, ix, dim, PETSC_FALSE, &tp);
+  if (PSCellsSums(S)) { /* (the sums: G is not zeroed, PSGridReset) */
+    PetscCall(ToGridStart(S, ix, dim, PETSC_TRUE, &tp));
+    PetscCall(ToGridUnits(S, ix, dt, dim, strength, PETSC_TRUE, C->xs[dim - 1], C->ce[dim - 1], &tp));
+    ToGridEnd(S, ix, dim, PETSC_TRUE, &tp);
+  } else {
+    PetscCall(ToGridStart(S, ix, dim, PETSC_FALSE, &tp));
+    PetscCall(ToGridUnits(S, ix, dt, dim, strength, PETSC_FALSE, C->xs[dim - 1], C->ce[dim - 1], &tp));
+    ToGridEnd(S, ix, dim, PETSC_FALSE, &tp);
+  }
   PetscCall(PetscLogEventEnd(EV_C2G, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
