@@ -1,6 +1,6 @@
 """The quadrants' speed against PyClaw's, from runs taken in pairs (scripts/bench).
 
-    python scripts/bench_pairs.py [--sizes 256,512] [--pairs 4]
+    python scripts/bench_pairs.py [--sizes 256,512] [--pairs 4] [--efficiency]
 
 For each size, --pairs times in turn: the peer (Clawpack PyClaw's
 quadrants, Fortran kernels, second order, dimensional splitting, to t = 0.2,
@@ -23,6 +23,13 @@ Prints each pair and the median, and the lines
 for scripts/bench_table.py.  Cell-updates per second per core; the ratios
 are plyshock's rate over PyClaw's.  Where the peer cannot run (its venv
 cannot be made), it says so and prints no BENCH line.
+
+With --efficiency the pairs are plyshock's own: a run on 1 rank, then one
+on 2 ranks (the same bench_cells.py runs), and the ratio is the 2-rank
+rate per core over the 1-rank rate, the two-rank efficiency, against the
+same disturbances as the ratios above (scripts/bench's main rows take the
+two runs seconds apart, once); its lines are BENCH cells_effpairs_<n>,
+cells_effpairs_lo_<n>, cells_effpairs_hi_<n> and cells_effpairs_k_<n>.
 """
 import argparse
 import os
@@ -72,12 +79,12 @@ def peer_rate(n):
     return None
 
 
-def plyshock_rate(n):
-    """plyshock's rate (cell-updates/s per core) for the quadrants at n^2 on 1 rank, the best of two runs in one process."""
+def plyshock_rate(n, ranks=1):
+    """plyshock's rate (cell-updates/s per core) for the quadrants at n^2 on `ranks` ranks, the best of two runs in one process."""
     steps = 100 if n <= 256 else 40
-    out = run(["mpiexec", "-n", "1", os.path.join(ROOT, ".venv", "bin", "python"), "scripts/bench_cells.py",
+    out = run(["mpiexec", "-n", str(ranks), os.path.join(ROOT, ".venv", "bin", "python"), "scripts/bench_cells.py",
                "-bench_n", str(n), "-bench_steps", str(steps), "-bench_reps", "2"])
-    m = re.search(rf"^BENCH cells_quadrants_{n}_1 (\S+)$", out, re.M)
+    m = re.search(rf"^BENCH cells_quadrants_{n}_{ranks} (\S+)$", out, re.M)
     if not m:
         sys.exit(f"bench_pairs.py: bench_cells.py printed no rate for {n}^2:\n{out}")
     return float(m.group(1))
@@ -87,7 +94,23 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sizes", type=sizes_arg, default=[256, 512], help="grid sizes n (n^2 cells), comma-separated (default 256,512)")
     ap.add_argument("--pairs", type=pairs_arg, default=4, help="pairs per size, >= 1 (default 4)")
+    ap.add_argument("--efficiency", action="store_true", help="pairs of plyshock on 1 rank, then on 2: the two-rank efficiency")
     args = ap.parse_args()
+    if args.efficiency:
+        for n in args.sizes:
+            print(f"quadrants {n}^2, 2 ranks against 1, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (1 rank's run, then 2 ranks')", flush=True)
+            effs = []
+            for i in range(args.pairs):
+                r1, r2 = plyshock_rate(n, 1), plyshock_rate(n, 2)
+                effs.append(r2 / r1)
+                print(f"  pair {i + 1}: 1 rank {r1 / 1e6:.3f} M/s, 2 ranks {r2 / 1e6:.3f} M/s per core, efficiency {r2 / r1:.3f}", flush=True)
+            med = statistics.median(effs)
+            print(f"  median efficiency {med:.3f} (range {min(effs):.3f}-{max(effs):.3f})")
+            print(f"BENCH cells_effpairs_{n} {med:.6e}")
+            print(f"BENCH cells_effpairs_lo_{n} {min(effs):.6e}")
+            print(f"BENCH cells_effpairs_hi_{n} {max(effs):.6e}")
+            print(f"BENCH cells_effpairs_k_{n} {len(effs)}", flush=True)
+        return
     for n in args.sizes:
         print(f"quadrants {n}^2 against PyClaw, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (PyClaw's runs, then plyshock's; 1 core each)", flush=True)
         ratios = []

@@ -83,6 +83,12 @@ def main():
                          f"PyClaw 1 core right before each, same run: median of the ratios, range {lo:.2f}-{hi:.2f}",
                          f"{med:.2f}", ">= 2", "yes" if med >= 2.0 else "no"))
         row(f"cells, quadrants {n}^2, 2 ranks (per core)", f"cells_quadrants_{n}_2", f"cells_quadrants_{n}_1", "1 rank, same run: efficiency", 0.85)
+        # the same efficiency from runs taken in pairs (bench_pairs.py --efficiency)
+        if f"cells_effpairs_{n}" in b:
+            med, lo, hi, k = (b.get(f"cells_effpairs{s}_{n}", 0.0) for s in ("", "_lo", "_hi", "_k"))
+            rows.append((f"cells, quadrants {n}^2, 2 ranks (per core), in pairs with 1 rank", f"{k:.0f} pairs",
+                         f"1 rank right before each, same run: median of the efficiencies, range {lo:.2f}-{hi:.2f}",
+                         f"{med:.2f}", ">= 0.85", "yes" if med >= 0.85 else "no"))
         # one gas in uniform flow, in the same bracket (no goal of its own: the
         # goal is the quadrants'; this says what their four materials cost)
         row(f"cells, one gas in uniform flow {n}^2, 1 rank", f"cells_pure_{n}_1", f"pyclaw_{n}", "PyClaw's quadrants 1 core, same run, best of 4 around it")
