@@ -170,7 +170,7 @@ typedef struct PSCells_ {
   PetscReal smax;                 /* this rank's largest c + |v| + viscous term of the cells (m/s) */
   PSLagProgress lag;              /* the Lagrangian phase's progress through the step (lagrange.c) */
   PSCellsWindow win;              /* the pipeline's window of its temporaries' units (lagrange.c) */
-  PetscReal *acc;                 /* the P2G's sums of two units of nodes (lagrange.c, PSCellsSums): the mass and dim force planes of 2 nacc reals; NULL until the first pipelined step */
+  PetscReal *acc;                 /* the P2G's sums of two units of nodes (lagrange.c, PSCellsSums): the mass and dim force planes of 2 nacc reals; NULL until the first step that takes them */
   PetscInt   nacc;                /* nodes per unit (a row in 2D, a plane in 3D) */
   PetscReal sat[7];               /* the cell that sets it: centre x (m, 3), c, |v|, viscous term (m/s), density (kg/m^3) */
   PSCorners  K;                   /* every cell's corners (lagrange.c) */
