@@ -90,6 +90,16 @@ def plyshock_rate(n, ranks=1):
     return float(m.group(1))
 
 
+def report(key, n, what, values):
+    """The median and range of one size's pairs, and their BENCH lines cells_<key>_<n> (the median), _lo_, _hi_ and _k_."""
+    med = statistics.median(values)
+    print(f"  median {what} {med:.3f} (range {min(values):.3f}-{max(values):.3f})")
+    print(f"BENCH cells_{key}_{n} {med:.6e}")
+    print(f"BENCH cells_{key}_lo_{n} {min(values):.6e}")
+    print(f"BENCH cells_{key}_hi_{n} {max(values):.6e}")
+    print(f"BENCH cells_{key}_k_{n} {len(values)}", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sizes", type=sizes_arg, default=[256, 512], help="grid sizes n (n^2 cells), comma-separated (default 256,512)")
@@ -104,12 +114,7 @@ def main():
                 r1, r2 = plyshock_rate(n, 1), plyshock_rate(n, 2)
                 effs.append(r2 / r1)
                 print(f"  pair {i + 1}: 1 rank {r1 / 1e6:.3f} M/s, 2 ranks {r2 / 1e6:.3f} M/s per core, efficiency {r2 / r1:.3f}", flush=True)
-            med = statistics.median(effs)
-            print(f"  median efficiency {med:.3f} (range {min(effs):.3f}-{max(effs):.3f})")
-            print(f"BENCH cells_effpairs_{n} {med:.6e}")
-            print(f"BENCH cells_effpairs_lo_{n} {min(effs):.6e}")
-            print(f"BENCH cells_effpairs_hi_{n} {max(effs):.6e}")
-            print(f"BENCH cells_effpairs_k_{n} {len(effs)}", flush=True)
+            report("effpairs", n, "efficiency", effs)
         return
     for n in args.sizes:
         print(f"quadrants {n}^2 against PyClaw, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (PyClaw's runs, then plyshock's; 1 core each)", flush=True)
@@ -121,12 +126,7 @@ def main():
             rc = plyshock_rate(n)
             ratios.append(rc / rp)
             print(f"  pair {i + 1}: PyClaw {rp / 1e6:.3f} M/s, plyshock {rc / 1e6:.3f} M/s, ratio {rc / rp:.3f}", flush=True)
-        med = statistics.median(ratios)
-        print(f"  median ratio {med:.3f} (range {min(ratios):.3f}-{max(ratios):.3f})")
-        print(f"BENCH cells_pairs_{n} {med:.6e}")
-        print(f"BENCH cells_pairs_lo_{n} {min(ratios):.6e}")
-        print(f"BENCH cells_pairs_hi_{n} {max(ratios):.6e}")
-        print(f"BENCH cells_pairs_k_{n} {len(ratios)}", flush=True)
+        report("pairs", n, "ratio", ratios)
 
 
 if __name__ == "__main__":
