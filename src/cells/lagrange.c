@@ -1302,15 +1302,15 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
    P2G and G2P stand between the phases; no contact, whose grid solve does)
    under musl, on a rank without ghost nodes (one rank: the grid's ghost
    sums and values, PSGridSolve's halo, would come between the phases);
-   -run_lanes 1 keeps the separate phases, for checks */
+   -run_lanes 1 keeps the separate phases, for checks.  The scenes are the
+   P2G's sums' (PSCellsSums) on such a rank: the pipeline's P2G takes them */
 static PetscLogEvent EV_Pipe = 0;
 
 PetscBool PSCellsPipelined(const PSSolver *S, const PSIndex *ix)
 {
-  const PSCells *C = S->cells;
-  PetscInt       d;
+  PetscInt d;
 
-  if (!C || C->markers || S->contact || S->run.transfer != PS_TRANSFER_MUSL || S->run.lanes == 1) return PETSC_FALSE;
+  if (!PSCellsSums(S)) return PETSC_FALSE;
   for (d = 0; d < S->dim; d++)
     if (ix->gm[d] != ix->om[d]) return PETSC_FALSE;
   return PETSC_TRUE;
