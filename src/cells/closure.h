@@ -25,6 +25,7 @@ static inline PetscReal PSCellsForcePressure(const PetscReal *ec, PetscInt m0, P
 {
   PetscReal sc = 0.0, sp = 0.0;
   PetscInt  m;
+  if (m1 == m0 + 1) return ec[PS_EC * m0 + 2] > 0.0 ? ec[PS_EC * m0] : 0.0; /* (one material: its p exactly, not chi p / chi) */
   for (m = m0; m < m1; m++) {
     sc += ec[PS_EC * m + 2];
     sp += ec[PS_EC * m + 2] * ec[PS_EC * m];
@@ -68,6 +69,7 @@ static inline PetscReal PSCellsVoidShare(const PSCells *C, PetscReal dV, PetscRe
    asked for more than it has; the markers' part takes the rest) */
 static inline PetscReal PSCellsMaterialShare(PetscReal rest, PetscReal chi, PetscReal sumchi, PetscReal chiM, PetscReal V)
 {
+  if (chi == sumchi && chiM == 0.0) return sumchi > 0.0 ? PetscMax(rest, -0.5 * V) : 0.0; /* (the only compliance: all of the rest exactly, not rest chi / chi) */
   return sumchi > 0.0 ? PetscMax(rest * chi / (sumchi + chiM), -0.5 * V) : 0.0;
 }
 

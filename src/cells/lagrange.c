@@ -257,7 +257,7 @@ static inline void GasLanesShare(PetscReal Vc, PetscReal V, PetscReal VM, PetscR
 {
   const PetscReal V0 = PetscMax(Vc - V - VM, 0.0), take = PetscMin(-dV, V0), V0p = V0 + dV, V0n = V0 - take, rn = dV + take;
   const PetscBool neg = dV < 0.0, pv = V0 > PS_VOID_TRACE * Vc;
-  const PetscReal rest = neg ? rn : (pv ? 0.0 : dV), dchi = chi > 0.0 ? chi + chiM : 1.0, sh = PetscMax(rest * chi / dchi, -0.5 * V);
+  const PetscReal rest = neg ? rn : (pv ? 0.0 : dV), dchi = chi > 0.0 ? chi + chiM : 1.0, sh = PetscMax(chiM == 0.0 ? rest : rest * chi / dchi, -0.5 * V);
   *V0e = neg ? V0n : (pv ? V0p : V0);
   *dVk = chi > 0.0 ? sh : 0.0;
 }
@@ -272,8 +272,7 @@ static inline PetscReal GasLanesViscosity(PetscReal rho, PetscReal h, PetscReal 
 /* PSCellsForcePressure of one material of compliance chi at pressure p */
 static inline PetscReal GasLanesForcePressure(PetscReal chi, PetscReal p)
 {
-  const PetscReal sc = 0.0 + chi, scd = sc > 0.0 ? sc : 1.0, pf = (0.0 + chi * p) / scd;
-  return sc > 0.0 ? pf : 0.0;
+  return chi > 0.0 ? p : 0.0;
 }
 
 /* corner a's force component d of a lane cell whose stress is a pressure,
@@ -1193,7 +1192,7 @@ static inline PetscErrorCode PredictUnits(PSSolver *S, const PSIndex *ix, PetscR
              weighted mean (PSCellsForcePressure) */
           *qh = PSViscosity(Mc / Vh, hm, trD, cmax, S->run.c_linear, S->run.c_quadratic);
           {
-            const PetscReal pfh = sc > 0.0 ? sp / sc : 0.0, dp = pfh + *qh - PSCellsForcePressure(ec, m0, m1) - XQ[ci];
+            const PetscReal pfh = sc > 0.0 ? (m1 == m0 + 1 ? hmn[m0 * hmat] : sp / sc) : 0.0, dp = pfh + *qh - PSCellsForcePressure(ec, m0, m1) - XQ[ci];
             for (d = 0; d < 3; d++) dsig[d][d] -= Vm * dp;
           }
         }
@@ -1501,8 +1500,8 @@ static inline __attribute__((always_inline)) void LagrangeGasCell(const PSSolver
 #pragma GCC unroll 3
     for (d = 0; d < dim; d++) hgw += kap * gh[dim * e + d] * hg[e][d] * dt;
   /* the material's volume and energy (no deviator: wh = 0) */
-  const PetscReal Mcd = Mc > 0.0 ? Mc : 1.0, V1 = V + dVk, wh = 0.0;
-  const PetscReal E1 = E + hgw * M / Mcd + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
+  const PetscReal V1 = V + dVk, wh = 0.0; /* (the hourglass heat all the material's: M_k / M_c is 1, not hgw M / M) */
+  const PetscReal E1 = E + hgw + wh - (pk + qh) * (dVk - dVr) - (pr + qh) * dVr;
   /* the time step's viscous term (Fastest's) */
   const PetscReal rq = rho > 0.0 ? rho : 1.0, cq2 = PetscMax(cmax, 0.5 * PetscSqrtReal(q / rq)), sqd = q > 0.0 ? rho * cq2 : 1.0, sq0 = q / sqd, sq = q > 0.0 ? sq0 : 0.0;
   const int       ok = (M > 0.0) & (V > 0.0) & (V0e <= PS_VOID_ROUNDOFF * Vc) & (V1 > 0.0) & !(E1 < 0.0);
@@ -1666,7 +1665,7 @@ static inline PetscErrorCode LagrangeUnit(PSSolver *S, const PSIndex *ix, PetscR
              q^h) (dV_k - dVr_k) - (p* + q^h) dVr_k (E = M_k e): the work the
              half-step force did on v^{n+1/2}, and the relaxation's exchange
              at the one pressure p* (closure.c) */
-          E1 = blk[PS_CE] + hgw * blk[PS_CM] / Mc + wh - (pk[0] + qh) * (dVk[m] - dVr[m]) - (pr + qh) * dVr[m];
+          E1 = blk[PS_CE] + (m1 == m0 + 1 ? hgw : hgw * blk[PS_CM] / Mc) + wh - (pk[0] + qh) * (dVk[m] - dVr[m]) - (pr + qh) * dVr[m];
           /* an ideal gas holds no negative energy: a trace the closure expands
              several-fold in one step would reach e < 0 (p < 0, no sound
              speed); it is set to 0 and what that adds booked (a negative loss) */
