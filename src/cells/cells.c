@@ -158,13 +158,8 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->vh));
   PetscCall(PetscFree((*C)->Mcell));
   PetscCall(PetscFree((*C)->sole));
-  if ((*C)->win.buf) { /* (the whole arrays back from the window) */
-    (*C)->sVL = (*C)->win.full[0];
-    (*C)->vo  = (*C)->win.full[1];
-    (*C)->df  = (*C)->win.full[2];
-    (*C)->hs  = (*C)->win.full[3];
-    PetscCall(PetscFree((*C)->win.buf));
-  }
+  PSCellsWindowEnd(*C); /* (the whole arrays, where a step stopped inside the pipeline) */
+  PetscCall(PetscFree((*C)->win.buf));
   PetscCall(PetscFree3((*C)->hs, (*C)->vo, (*C)->df));
   PetscCall(PetscSFDestroy(&(*C)->sfu));
   PetscCall(PetscSFDestroy(&(*C)->sfd));

@@ -99,7 +99,9 @@ typedef struct {
    caches, never written back to memory) and points C->sVL, vo, df and hs
    at it shifted by its first unit, so the kernels index it as the whole
    arrays (node o at vo[dim o + d]); when the units a phase is about to
-   write pass its end, the units still read move to its start */
+   write pass its end, the units still read move to its start; the
+   Lagrangian phase's end points them at the whole arrays again
+   (PSCellsWindowEnd) */
 #define PS_WIN_UNITS 16
 typedef struct {
   PetscReal *buf;                 /* the four windows, one allocation (NULL until the first pipelined step) */
@@ -499,6 +501,7 @@ PETSC_INTERN PetscErrorCode PSCellsPredict(PSSolver *, const PSIndex *, PetscRea
 PETSC_INTERN PetscBool      PSCellsPipelined(const PSSolver *, const PSIndex *);
 PETSC_INTERN PetscBool      PSCellsSums(const PSSolver *);
 PETSC_INTERN PetscErrorCode PSCellsPipeline(PSSolver *, const PSIndex *, PetscReal dt);
+PETSC_INTERN void           PSCellsWindowEnd(PSCells *);
 PETSC_INTERN PetscErrorCode PSCellsLagrange(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscErrorCode PSCellsRemap(PSSolver *, const PSIndex *, PetscReal dt);
 PETSC_INTERN PetscBool      PSCellsRemapBehindOK(const PSSolver *, const PSIndex *);

@@ -253,7 +253,7 @@ static PetscErrorCode DiscardMomentum(PSSolver *S, const PSIndex *ix)
 {
   PSCells        *C = S->cells;
   const PetscInt  dim = S->dim, nco = 1 << dim;
-  PetscReal      *dm = C->win.buf ? C->win.full[2] : C->df, *dep = C->dep; /* the predictor's scratch, free here: discarded mass per node (the whole array, not the pipeline's window: PSCellsWindow) */
+  PetscReal      *dm = C->df, *dep = C->dep; /* the predictor's scratch, free here: discarded mass per node (the whole array: PSCellsWindowEnd) */
   PetscInt        i, j, k, a, d, o, n = 0;
   PetscBool       any;
 

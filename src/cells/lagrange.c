@@ -675,7 +675,7 @@ static inline PetscErrorCode PSCellsToGridDim(PSSolver *S, const PSIndex *ix, Pe
   PetscFunctionBeginUser;
   if (!EV_C2G) PetscCall(PetscLogEventRegister("PSCellsP2G", 0, &EV_C2G));
   PetscCall(PetscLogEventBegin(EV_C2G, 0, 0, 0, 0));
-  if (PSCellsSums(S)) { /* (the sums: G is not zeroed, PSGridReset) */
+  if (PSCellsSums(S)) { /* (the sums: G is not zeroed, PSGridReset; sums a constant in each branch, so ToGridUnits' adds are compiled for the sums' strides or G's) */
     PetscCall(ToGridStart(S, ix, dim, PETSC_TRUE, &tp));
     PetscCall(ToGridUnits(S, ix, dt, dim, strength, PETSC_TRUE, C->xs[dim - 1], C->ce[dim - 1], &tp));
     ToGridEnd(S, ix, dim, PETSC_TRUE, &tp);
@@ -1327,6 +1327,21 @@ static inline void WindowPoint(PSCells *C)
   C->hs            = w->hs - w->bc * w->cu;
 }
 
+/* C->sVL, vo, df and hs the whole arrays again, where the window had them
+   (the step's Lagrangian phase ends with it, PSCellsLagrange; and
+   PSCellsDestroy): outside the pipeline and the Lagrangian phase behind it
+   they are always the whole arrays, so scratch users (the fit's discarded
+   momentum, closure.c) and the separate phases take them as they are */
+void PSCellsWindowEnd(PSCells *C)
+{
+  PSCellsWindow *w = &C->win;
+  if (!w->buf) return;
+  C->sVL = w->full[0];
+  C->vo  = w->full[1];
+  C->df  = w->full[2];
+  C->hs  = w->full[3];
+}
+
 /* the window at the step's start (allocated at the first): its first units
    the arrays' first */
 static inline PetscErrorCode WindowStart(PSSolver *S, const PSIndex *ix, const PetscInt dim)
@@ -1727,6 +1742,7 @@ static inline PetscErrorCode PSCellsLagrangeDim(PSSolver *S, const PSIndex *ix, 
   (void)LagrangeNodes(S, ix, dim, C->lag.nb, ix->gm[dim - 1]);   /* (the nodes above the cells') */
   C->smax      = C->lag.smax;
   C->lag.fused = PETSC_FALSE;
+  PSCellsWindowEnd(C); /* (the last units it read: the pipeline's window, if it ran) */
   PetscCall(PetscLogEventEnd(EV_Lag, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
