@@ -1199,20 +1199,6 @@ typedef struct {
   PetscReal heat;    /* C->remap_heat, the same */
 } PSKEProgress;
 
-/* the KE fix of the owned nodes of unit r (grid index along y in 2D, z in
-   3D), row by row: their velocity kept within the range of each component
-   over the node and its neighbours along d before the sweep (VL, with the
-   masses before it, mco: a node the sweep nearly empties divides a
-   remainder of round-off size by a mass of round-off size; and without
-   mass no momentum), what is cut booked as lost; then the boundary
-   conditions (a wall takes the momentum into it).  After the last sweep,
-   with it, the kinetic energy carried through the remap's sweeps minus that
-   of the remapped momentum, d_i per owned node, into K (its own node's
-   value is read first), as d_i / (2^dim m_i), for the cells (HeatUnit).
-   (Once a step, not once a sweep: the sum over the sweeps of each one's d_i
-   is this d_i, as each sweep's kinetic energy before it is the one after
-   the sweep before; the heat is then not carried by the later sweeps, and
-   the cells' ghosts need no exchange between sweeps) */
 /* a row's values a[0 .. n) in PS_SUM_LANES partial sums, a[j] into sum j
    mod PS_SUM_LANES (a multiple of 2 and 3: with dim values per node, sum k
    holds component k mod dim), each in the row's order: the books' sums of
@@ -1230,6 +1216,20 @@ static inline void SumLanes(const PetscReal *a, PetscInt n, PetscReal acc[PS_SUM
   for (k = 0; j + k < n; k++) acc[k] += a[j + k];
 }
 
+/* the KE fix of the owned nodes of unit r (grid index along y in 2D, z in
+   3D), row by row: their velocity kept within the range of each component
+   over the node and its neighbours along d before the sweep (VL, with the
+   masses before it, mco: a node the sweep nearly empties divides a
+   remainder of round-off size by a mass of round-off size; and without
+   mass no momentum), what is cut booked as lost; then the boundary
+   conditions (a wall takes the momentum into it).  After the last sweep,
+   with it, the kinetic energy carried through the remap's sweeps minus that
+   of the remapped momentum, d_i per owned node, into K (its own node's
+   value is read first), as d_i / (2^dim m_i), for the cells (HeatUnit).
+   (Once a step, not once a sweep: the sum over the sweeps of each one's d_i
+   is this d_i, as each sweep's kinetic energy before it is the one after
+   the sweep before; the heat is then not carried by the later sweeps, and
+   the cells' ghosts need no exchange between sweeps) */
 static inline void KEUnit(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, PetscBool last, PetscInt r, const PetscReal *VL, const PetscReal *mcn, const PetscReal *mco, PetscReal lost[3])
 {
   PSCells        *C = S->cells;
