@@ -129,7 +129,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   for (d = 0; d < 3; d++) nn *= ix.gm[d];
   C->nnl = nn;
   PetscCall(PetscCalloc1(nn * S->dim, &C->P));
-  PetscCall(PetscMalloc4(nn, &C->sK, nn * S->dim, &C->sVL, ix.gm[0] * S->dim, &C->sdP, PetscMax(ix.gm[0], C->gm[0]) * PetscMax((S->dim + 1) * (S->dim == 3 ? 4 : 2) + 1, 15 + (1 << S->dim) * S->dim + (S->dim == 3 ? 4 : 1) * S->dim), &C->sW)); /* the remap's scratch; sVL is the cells' P2G's too (sW's planes the longer of a ghosted row of nodes and of cells: FractionsRun's) */
+  PetscCall(PetscMalloc4(nn, &C->sK, nn * S->dim, &C->sVL, ix.gm[0] * S->dim, &C->sdP, PSCellsPlaneLen(C, &ix) * PetscMax((S->dim + 1) * (S->dim == 3 ? 4 : 2) + 1, 15 + (1 << S->dim) * S->dim + (S->dim == 3 ? 4 : 1) * S->dim), &C->sW)); /* the remap's scratch; sVL is the cells' P2G's too (sW's planes the longer of a ghosted row of nodes and of cells, FractionsRun's, padded: PSCellsPlaneLen) */
   PetscCall(PetscCalloc1(nn, &C->mcn)); /* mcn and mco apart: the remap's sweeps swap them */
   PetscCall(PetscCalloc1(nn, &C->mco));
   PetscCall(PetscCalloc1(nn * S->dim, &C->vh));

@@ -430,6 +430,27 @@ static inline void PSCellsCopyIn(PSCells *C, PetscInt ci, const PetscReal *in)
   for (q = 0; q < PS_CX_N; q++) *PSCellsX(C, ci, q) = in[C->nmat * C->ms + q];
 }
 
+/* the stride of scratch planes of n reals each (the lanes' C->sW, the
+   sweeps' flux records C->sF): n padded to 24 mod 512 reals, so that
+   successive planes start 192 bytes apart modulo 4 KiB, and 21 of them
+   never closer.  A core matches a load against the stores still in flight
+   by the address's low 12 bits first: with rows of 514 reals (the 512^2
+   quadrants) every plane began 16 bytes after the one before modulo 4 KiB,
+   so a loop that stores to one plane and loads another at the same index
+   waited on stores it did not read (4K aliasing); the quadrants at 512^2
+   took 1.07x the time (docs/speed.md, forty-third session) */
+static inline PetscInt PSCellsPadPlane(PetscInt n)
+{
+  return n + ((24 - n) % 512 + 512) % 512;
+}
+
+/* the length of each plane of the lanes' scratch C->sW: a ghosted row of
+   nodes or of cells, the longer, padded (PSCellsPadPlane) */
+static inline PetscInt PSCellsPlaneLen(const PSCells *C, const PSIndex *ix)
+{
+  return PSCellsPadPlane(PetscMax(ix->gm[0], C->gm[0]));
+}
+
 /* ghosted cell ci's mass M_c (the sum over its materials, in order) and its
    materials with mass, into C->Mcell and C->sole */
 static inline void PSCellsCellMass(PSCells *C, PetscInt ci)

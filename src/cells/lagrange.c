@@ -526,7 +526,7 @@ static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscRe
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
   const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, dof = PSGridDof(S), fo = S->run.transfer == PS_TRANSFER_APIC ? 1 : dof - dim, hsd = PSCellsHalfSize(C);
   const PetscReal fs = S->run.transfer == PS_TRANSFER_APIC ? dt : 1.0; /* apic: the force enters as momentum dt f */
-  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
+  const PetscInt  nw = PSCellsPlaneLen(C, ix); /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = !strength && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (without strength; -run_lanes 1: the scalar loop alone, for checks) */
   const PetscInt  sm = sums ? 1 : dof, sf = sums ? 1 : dof, sc = sums ? 2 * C->nacc : 1; /* (node o's mass at gm[sm o], its force's component d at gf[sf o + sc d]: G's, or the sums': ToGridSumsStart) */
   PetscReal      *gm = S->g, *gf = S->g + fo, *W = C->sW;
@@ -1049,7 +1049,7 @@ static inline PetscErrorCode PredictUnits(PSSolver *S, const PSIndex *ix, PetscR
   const PetscReal *XQ = PSCellsX(C, 0, PS_CX_Q); /* the per-cell plane of q (PSCellsX) */
   const PetscInt  nco = 1 << dim, nh = dim == 3 ? 4 : 1, ns = C->ns, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
   const PetscBool musl = S->run.transfer == PS_TRANSFER_MUSL;
-  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
+  const PetscInt  nw = PSCellsPlaneLen(C, ix); /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
   PetscReal       hm = 0.0, *W = C->sW;
   PetscInt        i, j, k, m, d, e, a, lo[3], hi[3], n = pp->n, orow, nb = pp->nb, nxt = pp->nxt, un;
@@ -1581,7 +1581,7 @@ static inline PetscErrorCode LagrangeUnit(PSSolver *S, const PSIndex *ix, PetscR
   PSCells        *C = S->cells;
   PetscReal      *XQ = PSCellsX(C, 0, PS_CX_Q), *XV = PSCellsX(C, 0, PS_CX_V); /* the per-cell planes of q and the cells' volumes (PSCellsX) */
   const PetscInt  nh = dim == 3 ? 4 : 1, hsd = PSCellsHalfSize(C), hmat = PSCellsHalfMat(C);
-  const PetscInt  nw = ix->gm[0]; /* (the lanes' plane length: the remap's scratch C->sW, free here) */
+  const PetscInt  nw = PSCellsPlaneLen(C, ix); /* (the lanes' plane length: the remap's scratch C->sW, free here) */
   const PetscBool lanes = S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (-run_lanes 1: the scalar loop alone, for checks) */
   const PetscInt  k0 = dim == 3 ? c : C->cs[2], k1 = dim == 3 ? c + 1 : C->ce[2], j0 = dim == 3 ? C->cs[1] : c, j1 = dim == 3 ? C->ce[1] : c + 1;
   PetscReal       hm = 0.0, smax = lp->smax, *W = C->sW;

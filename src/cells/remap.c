@@ -355,7 +355,7 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
 }
 
 /* the sweeps' face scratch, kept between steps: face fluxes (fs planes of
-   nface faces) and the range of materials each face's fluxes hold (the nodal
+   nface reals: the faces and their planes' padding, PSCellsPadPlane) and the range of materials each face's fluxes hold (the nodal
    kinetic energy and velocity, sK and sVL, are allocated with the cells) */
 static PetscErrorCode ScratchSize(PSCells *C, PetscInt nface, PetscInt fs)
 {
@@ -1060,7 +1060,7 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
   const PetscBool innerd = j0[d] > 0 && j0[d] + 1 < C->nc[d];   /* the run inside the domain along d (d > 0; along x: each cell) */
   const PetscReal *Mcell = C->Mcell, *mcn = C->mcn;              /* (in locals) */
   PetscReal       *U = C->u, *XV = PSCellsX(C, 0, PS_CX_V);
-  const PetscInt  nw = ix->gm[0]; /* (W's plane length: C->sW's) */
+  const PetscInt  nw = PSCellsPlaneLen(C, ix); /* (W's plane length: C->sW's) */
   PetscReal       *W = C->sW;
   const PetscBool lanes = C->ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (CellUpdateLanes: gas blocks) */
   PetscInt        xa, xb, ka, kb, k;
@@ -1405,6 +1405,7 @@ typedef struct PSSweepProgress_ {
   PetscBool    first, last;
   PetscBool    lanes;   /* FractionsRun's gas blocks */
   PetscInt     nw;      /* the lanes' scratch C->sW: planes of nw */
+  PetscInt     ft;      /* the flux records' planes in C->sF: ft apart (a line's faces along x, a slice's across) */
   PetscInt     lo[3], hi[3], ns;
   PetscInt     u, u1;   /* the outer loop's next unit, its end */
   PetscInt     nprep;   /* the local nodes [0, nprep) have their VL (and K in the first sweep) */
@@ -1465,7 +1466,7 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
   sp->first = first;
   sp->last  = last;
   sp->lanes = C->ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (FractionsRun: gas blocks) */
-  sp->nw    = PetscMax(ix->gm[0], C->gm[0]);
+  sp->nw    = PSCellsPlaneLen(C, ix);
   SweepDirs(C, ix, dim, d, &sp->sw);
   /* the KE fix behind the cells' update, where it can (PSKEProgress);
    -run_lanes 1 keeps it to its own pass, for checks */
@@ -1504,7 +1505,8 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
     sp->u1 = sp->hi[dim - 1];
   }
   PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
-  PetscCall(ScratchSize(C, d == 0 ? sp->hi[0] - sp->lo[0] : 3 * sp->ns, fs)); /* a line's faces along x, or three slices' */
+  sp->ft = PSCellsPadPlane(d == 0 ? sp->hi[0] - sp->lo[0] : sp->ns); /* (the flux records' planes: PSCellsPadPlane) */
+  PetscCall(ScratchSize(C, d == 0 ? sp->ft : 3 * sp->ft, fs)); /* a line's faces along x, or three slices' */
   PetscCall(FractionsSetup(C, &sp->fr));
   sp->nprep = 0;
   if (!sp->behind) {
@@ -1533,7 +1535,7 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
 static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, const PetscInt dim)
 {
   PSCells           *C = S->cells;
-  const PetscInt     d = sp->d, fs = C->nmat * C->ms + 2, ns = sp->ns, *lo = sp->lo, *hi = sp->hi, U = sp->u;
+  const PetscInt     d = sp->d, fs = C->nmat * C->ms + 2, ns = sp->ns, ft = sp->ft, *lo = sp->lo, *hi = sp->hi, U = sp->u;
   const PSSweepDirs *sw = &sp->sw;
   PSFractions       *fr = &sp->fr;
   PetscReal         *F = C->sF, *K = C->sK, *VL = sp->VL, *P = C->P;
@@ -1551,8 +1553,8 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
     for (j[1] = dim == 3 ? lo[1] : U; j[1] < (dim == 3 ? hi[1] : U + 1); j[1]++) {
       j[0] = lo[0];
       FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, U + 1);
-      FaceRun(S, ix, fr, dt, sw, dim, j, nf, F, nf, R);
-      CellRun(S, ix, sw, dim, j, nf - 1, F, &F[1], nf, R, &R[2], VL, P, K);
+      FaceRun(S, ix, fr, dt, sw, dim, j, nf, F, ft, R);
+      CellRun(S, ix, sw, dim, j, nf - 1, F, &F[1], ft, R, &R[2], VL, P, K);
     }
     PetscCall(KEBehind(S, ix, sw, dim, sp->last, U, VL, &sp->kp)); /* (the row or plane of cells U done) */
   } else {
@@ -1564,27 +1566,27 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
       /* the faces of slice lead */
       if (lead < hi[d]) {
         FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, (dim == 3 && d == 1 ? U : lead) + 1);
-        PetscReal *Fs = &F[(lead % 3) * ns * fs];
+        PetscReal *Fs = &F[(lead % 3) * ft * fs];
         PetscInt  *Rs = &R[(lead % 3) * ns * 2];
         PetscInt   j[3] = {0, 0, dim == 3 && d == 1 ? U : 0}, jl[2], jh[2], n = 0;
         j[d] = lead;
         SliceRange(d, lo, hi, j, jl, jh);
         for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
           j[0] = jl[0];
-          FaceRun(S, ix, fr, dt, sw, dim, j, jh[0] - jl[0], &Fs[n], ns, &Rs[2 * n]);
+          FaceRun(S, ix, fr, dt, sw, dim, j, jh[0] - jl[0], &Fs[n], ft, &Rs[2 * n]);
         }
       }
       /* the cells of slice c = lead - 2, between faces c and c + 1 */
       c = lead - 2;
       if (c >= lo[d] && c < hi[d] - 1) {
-        const PetscReal *Fl = &F[(c % 3) * ns * fs], *Fh = &F[((c + 1) % 3) * ns * fs];
+        const PetscReal *Fl = &F[(c % 3) * ft * fs], *Fh = &F[((c + 1) % 3) * ft * fs];
         const PetscInt  *Rl = &R[(c % 3) * ns * 2], *Rh = &R[((c + 1) % 3) * ns * 2];
         PetscInt         j[3] = {0, 0, dim == 3 && d == 1 ? U : 0}, jl[2], jh[2], n = 0;
         j[d] = c;
         SliceRange(d, lo, hi, j, jl, jh);
         for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
           j[0] = jl[0];
-          CellRun(S, ix, sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ns, &Rl[2 * n], &Rh[2 * n], VL, P, K);
+          CellRun(S, ix, sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ft, &Rl[2 * n], &Rh[2 * n], VL, P, K);
         }
         if (d == dim - 1) PetscCall(KEBehind(S, ix, sw, dim, sp->last, c, VL, &sp->kp)); /* (the slice c: a unit) */
       }
