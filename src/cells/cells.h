@@ -434,8 +434,8 @@ static inline void PSCellsCopyIn(PSCells *C, PetscInt ci, const PetscReal *in)
    sweeps' flux records C->sF): n padded to 24 mod 512 reals, so that
    successive planes start 192 bytes apart modulo 4 KiB, and 21 of them
    never closer.  A core matches a load against the stores still in flight
-   by the address's low 12 bits first: with rows of 514 reals (the 512^2
-   quadrants) every plane began 16 bytes after the one before modulo 4 KiB,
+   by the address's low 12 bits first: with rows of 513-515 reals (the
+   512^2 quadrants) every plane began 8-24 bytes after the one before modulo 4 KiB,
    so a loop that stores to one plane and loads another at the same index
    waited on stores it did not read (4K aliasing); the quadrants at 512^2
    took 1.07x the time (docs/speed.md, forty-third session) */
