@@ -355,8 +355,9 @@ static PetscInt SlabVolumes(const PSSolver *S, const PSFractions *fr, const Pets
 }
 
 /* the sweeps' face scratch, kept between steps: face fluxes (fs planes of
-   nface reals: the faces and their planes' padding, PSCellsPadPlane) and the range of materials each face's fluxes hold (the nodal
-   kinetic energy and velocity, sK and sVL, are allocated with the cells) */
+   nface reals: the faces and their planes' padding, PSCellsPadPlane) and
+   the range of materials each face's fluxes hold (the nodal kinetic energy
+   and velocity, sK and sVL, are allocated with the cells) */
 static PetscErrorCode ScratchSize(PSCells *C, PetscInt nface, PetscInt fs)
 {
   PetscFunctionBeginUser;
