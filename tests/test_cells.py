@@ -500,8 +500,11 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim, transfer, tall):
     On one rank the musl cases take the cells' P2G, grid update and
     predictor as one pipeline of units (PSCellsPipeline), with its
     temporaries in a window of units and the remap's first sweep behind
-    the Lagrangian phase, on two the separate phases, so this also holds
-    the pipeline to them.
+    the Lagrangian phase; on two ranks split along x the separate phases,
+    so this also holds the pipeline to them; on two ranks split along y
+    (z), tall, the pipeline again, each rank computing the ghost nodes next
+    to its own as their owner does (its edge units' cells, PSCellsEdgeUnits):
+    the run on two ranks is checked to have taken it.
     Before, the ranks' partial sums were added at their boundary: the 3D
     charge's state drifted by round-off from the first step, and by 3% of a
     field's largest value at step 10.  The same under transfer apic (its
@@ -524,14 +527,47 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim, transfer, tall):
         scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, transfer="apic", shape="bspline2")).validate()
     steps = 40 if dim == 2 else 20
     (u1, n1), k1 = cells_after(scene, PETSc.COMM_SELF, steps)      # each rank runs the scene alone
+    PETSc.Log.begin()
+    pipe = PETSc.Log.Event("PSCellsPipeline")
+    before = pipe.getPerfInfo()["count"]
     (u2, n2), k2 = cells_after(scene, PETSc.COMM_WORLD, steps)
     assert k1 == k2 == steps
+    if tall and transfer == "musl":
+        # (the pipeline, logged once a step, ran on both ranks at every step)
+        ran = COMM.allgather(pipe.getPerfInfo()["count"] - before)
+        assert ran == [steps, steps], f"the pipeline ran {ran} times on the two ranks in {steps} steps"
     assert COMM.size == 2 and not np.isnan(u2).any() and not np.isnan(n2).any()
     # the charge has expanded across the ranks' boundary (the state is not the initial one)
     (u0, _), _ = cells_after(scene, PETSc.COMM_SELF, 0)
     assert np.abs(u1 - u0).max() > 0.0
     diff = int((u1 != u2).sum() + (n1 != n2).sum())
     assert diff == 0, f"{diff} values of the cells and their nodes differ between 1 and 2 ranks"
+
+
+def test_cells_pipeline_on_three_ranks_along_y_is_bitwise_one_rank(tmpdir_mpi):
+    """plyshock run of the tall scene above (gases and an aluminium disk with
+    strength, 24 x 40 cells) on 3 ranks, which split it along y: the middle
+    rank's pipeline computes the ghost nodes under and over its own, from
+    its edge units' cells on both sides (PSCellsEdgeUnits), the others' on
+    one side each; the cells in the last grid file are bitwise those of 1
+    rank."""
+    scene = gases_and_a_disk(2, tall=True)
+    scene = dataclasses.replace(scene, run=dataclasses.replace(scene.run, t_end=8e-6)).validate()
+    deck = os.path.join(tmpdir_mpi, "tall.yaml")
+    if COMM.rank == 0:
+        with open(deck, "w") as f:
+            f.write(scene.to_yaml())
+    COMM.Barrier()
+    out = {k: os.path.join(tmpdir_mpi, k) for k in ("one", "three")}
+    for name, ranks in (("one", 1), ("three", 3)):
+        code, o, e = run_cli(["run", deck, "-o", out[name]], ranks=ranks)
+        assert code == 0, e
+    one, t1, _ = cells_at(out["one"], 1)
+    three, t3, _ = cells_at(out["three"], 1)
+    assert t1 == t3 and abs(t1 - 8e-6) < 1e-12
+    assert not np.allclose(one["pressure"], cells_at(out["one"], 0)[0]["pressure"])  # (the charge has moved the state)
+    for q in one:
+        assert np.array_equal(one[q], three[q]), q
 
 
 @pytest.mark.parametrize("dim,disk,still,tall,alone", [(2, True, False, False, False), (2, False, False, False, False), (3, False, False, False, False),

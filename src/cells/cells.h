@@ -348,6 +348,23 @@ static inline PetscInt PSCellsXIdx(const PSCells *C, PetscInt i, PetscInt j, Pet
   return ((k - C->xs[2]) * C->xm[1] + (j - C->xs[1])) * C->xm[0] + (i - C->xs[0]);
 }
 
+/* The units of ghost cells along y (2D) or z (3D) next to the cells around
+   the owned nodes that the pipeline of a rank with neighbours along that
+   direction alone also takes (lagrange.c, PipelineDim): the unit below them
+   (xs - 1, under a rank below, where it lies in the domain) and the one
+   above (ce, under a rank above): their corners' sums give the ghost nodes
+   next to the owned ones, computed there as their owner computes them.
+   Each a unit (-1: none) and the index of its first cell among the per-cell
+   slots (C->eco, C->hs: after the PSCellsXIdx cells, room for two units) */
+static inline void PSCellsEdgeUnits(const PSCells *C, PetscInt *lo, PetscInt *nlo, PetscInt *hi, PetscInt *nhi)
+{
+  const PetscInt e = C->dim - 1, nx = C->xm[0] * C->xm[1] * C->xm[2], unit = nx / PetscMax(C->xm[e], 1);
+  *lo  = C->cs[e] >= 2 ? C->xs[e] - 1 : -1; /* (cs >= 1: a rank below; xs - 1 = cs - 2 >= 0, in the ghost box of PS_CELL_GHOST) */
+  *hi  = C->ce[e] < C->nc[e] && C->ce[e] > C->cs[e] ? C->ce[e] : -1;
+  *nlo = nx;
+  *nhi = nx + unit;
+}
+
 /* which corners of a cell are owned nodes: bit a for the corner at offset
    K.off[a] (bit d of a: the upper node along d).  Along one direction d, for
    the cell's index c along it: the corners whose node along d is owned (the

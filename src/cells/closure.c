@@ -96,24 +96,28 @@ PetscErrorCode PSCellsEOSCache(PSSolver *S)
 }
 
 /* PSCellsEOSCache's slots: each cell's, after the padding, the cells in
-   order; the cache's room */
+   order, then the cells of the pipeline's edge units (PSCellsEdgeUnits);
+   the cache's room */
 PetscErrorCode PSCellsEOSSlots(PSSolver *S)
 {
   PSCells *C = S->cells;
-  PetscInt i, j, k, n, m0, m1, tot = C->nmat - 1; /* (slots: the padding) */
+  PetscInt i, j, k, n, m0, m1, tot = C->nmat - 1, q, eu[2], en[2], e = C->dim - 1; /* (slots: the padding) */
 
   PetscFunctionBeginUser;
-  if (!C->eco) {
-    PetscInt nx = 1, d;
-    for (d = 0; d < 3; d++) nx *= C->xm[d];
-    PetscCall(PetscMalloc1(PetscMax(1, nx), &C->eco));
-  }
-  {
+  PSCellsEdgeUnits(C, &eu[0], &en[0], &eu[1], &en[1]);
+  if (!C->eco) PetscCall(PetscMalloc1(PetscMax(1, en[1] + en[1] - en[0]), &C->eco)); /* (the cells and two units) */
+  for (q = -1; q < 2; q++) {
+    /* q = -1: the cells around the owned nodes; 0, 1: the edge units */
     const PetscInt nrow = C->ce[0] - C->xs[0], nall = C->nmat; /* (locals: the stores to eco could alias C's fields) */
-    PetscInt      *eco  = C->eco;
-    n = 0;
-    for (k = C->xs[2]; k < C->ce[2]; k++)
-      for (j = C->xs[1]; j < C->ce[1]; j++) {
+    PetscInt      *eco  = C->eco, lo[3] = {C->xs[0], C->xs[1], C->xs[2]}, hi[3] = {C->ce[0], C->ce[1], C->ce[2]};
+    if (q >= 0) {
+      if (eu[q] < 0) continue;
+      lo[e] = eu[q];
+      hi[e] = eu[q] + 1;
+    }
+    n = q < 0 ? 0 : en[q];
+    for (k = lo[2]; k < hi[2]; k++)
+      for (j = lo[1]; j < hi[1]; j++) {
         const short *sole = &C->sole[PSCellIdx(C, C->xs[0], j, k)];
         for (i = 0; i < nrow; i++, n++) {
           PSCellsSoleRange(sole[i], nall, &m0, &m1); /* (PSCellsPresent's, on the locals) */

@@ -486,7 +486,7 @@ static inline void SumsToGRow(PetscReal *g, const PetscReal *P, const PetscReal 
    no cell's corner), a row at a time, its owned nodes apart from its ghosts
    (SumsToGRow); then the upper unit's sums down, the upper unit zeroed,
    where ra was among them (its successor's sums move down) */
-static inline void ToGridSumsToG(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt u0, PetscInt u1, PetscInt ra)
+static inline __attribute__((always_inline)) void ToGridSumsToGDim(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt u0, PetscInt u1, PetscInt ra)
 {
   PSCells         *C = S->cells;
   const PetscInt   e = dim - 1, nu = C->nacc, x0 = ix->gs[0], x1 = ix->gs[0] + ix->gm[0], xa = ix->os[0], xb = ix->os[0] + ix->om[0];
@@ -518,6 +518,14 @@ static inline void ToGridSumsToG(PSSolver *S, const PSIndex *ix, const PetscInt 
         a[nu + q] = 0.0;
       }
     }
+}
+
+/* (out of line, as GCC kept it before the pipeline's edge units changed its
+   choice; dim a constant in each copy) */
+static __attribute__((noinline)) void ToGridSumsToG(PSSolver *S, const PSIndex *ix, const PetscInt dim, PetscInt u0, PetscInt u1, PetscInt ra)
+{
+  if (dim == 2) ToGridSumsToGDim(S, ix, 2, u0, u1, ra);
+  else ToGridSumsToGDim(S, ix, 3, u0, u1, ra);
 }
 
 static inline PetscErrorCode ToGridUnits(PSSolver *S, const PSIndex *ix, PetscReal dt, const PetscInt dim, const PetscBool strength, const PetscBool sums, PetscInt u0, PetscInt u1, PSToGridProgress *tp)
@@ -1299,19 +1307,23 @@ static inline PetscErrorCode PSCellsPredictDim(PSSolver *S, const PSIndex *ix, P
    it from memory).  Every cell, node and sum is the separate phases' own,
    in the same order.  In a scene of cells alone (no marker bodies: their
    P2G and G2P stand between the phases; no contact, whose grid solve does)
-   under musl, on a rank without ghost nodes (one rank: the grid's ghost
-   sums and values, PSGridSolve's halo, would come between the phases);
+   under musl, on a rank without ghost nodes across the units (one rank,
+   or ranks along y in 2D and z in 3D alone: the ghost nodes next to the
+   owned ones are computed in the pipeline as their owner computes them,
+   PipelineDim, where PSGridSolve's halo would come between the phases);
    -run_lanes 1 keeps the separate phases, for checks.  The scenes are the
    P2G's sums' (PSCellsSums) on such a rank: the pipeline's P2G takes them */
 static PetscLogEvent EV_Pipe = 0;
 
 PetscBool PSCellsPipelined(const PSSolver *S, const PSIndex *ix)
 {
-  PetscInt d;
+  const PetscInt e = S->dim - 1;
 
-  if (!PSCellsSums(S)) return PETSC_FALSE;
-  for (d = 0; d < S->dim; d++)
-    if (ix->gm[d] != ix->om[d]) return PETSC_FALSE;
+  if (!PSCellsSums(S) || !PSCellsWholeAcross(ix, S->dim)) return PETSC_FALSE;
+  /* (ranks along y (2D) or z (3D) alone: the ghost nodes next to the owned
+     ones and one more, whose values the edge units' cells read, local) */
+  if (ix->os[e] > ix->gs[e] && ix->os[e] - 2 < ix->gs[e]) return PETSC_FALSE;
+  if (ix->os[e] + ix->om[e] < ix->gs[e] + ix->gm[e] && ix->os[e] + ix->om[e] + 2 > ix->gs[e] + ix->gm[e]) return PETSC_FALSE;
   return PETSC_TRUE;
 }
 
@@ -1402,10 +1414,27 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
   PSPredictProgress pp;
   PetscInt          u, gn = PETSC_MIN_INT; /* (gn: the first unit of nodes without the grid update) */
   const PetscBool   behind = PSCellsRemapBehindOK(S, ix); /* the remap's first sweep behind the Lagrangian phase (remap.c) */
+  PSIndex           iw     = *ix; /* (the nodes the P2G and the grid update take: the owned ones and the ghost nodes next to them) */
+  PetscInt          eu[2], en[2];
 
   PetscFunctionBeginUser;
   if (!EV_Pipe) PetscCall(PetscLogEventRegister("PSCellsPipeline", 0, &EV_Pipe));
   PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
+  /* Under a rank below or above (along y in 2D, z in 3D: PSCellsPipelined),
+     the ghost nodes next to the owned ones are computed here as their owner
+     computes them: each one's sums over all its cells, in the order of the
+     cell array (the edge units' cells, PSCellsEdgeUnits, give their
+     corners there and nowhere else), and its grid update; so the
+     predictor's cells under and over the owned nodes have their corners' v*
+     without the grid's halo between the phases, and each value is the
+     owner's, bitwise.  The corrector corrects the owned nodes alone, and
+     the ghosts take the owners' values after it (PSHaloBcast) */
+  PSCellsEdgeUnits(C, &eu[0], &en[0], &eu[1], &en[1]);
+  if (ix->os[e] > ix->gs[e]) {
+    iw.os[e] -= 1;
+    iw.om[e] += 1;
+  }
+  if (ix->os[e] + ix->om[e] < ix->gs[e] + ix->gm[e]) iw.om[e] += 1;
   PetscCall(ToGridStart(S, ix, dim, PETSC_TRUE, &tp)); /* (the P2G's sums: G is not zeroed, PSGridReset) */
   PredictStart(S, ix, dim, &pp);
   if (behind) {
@@ -1414,24 +1443,32 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
     PetscCall(PSCellsRemapBehindBegin(S, ix));
     PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
   }
-  for (u = u0; u < u1; u++) {
+  for (u = eu[0] >= 0 ? eu[0] : u0; u < (eu[1] >= 0 ? eu[1] + 1 : u1); u++) {
     /* the window: from the first units still read, the Lagrangian phase's
        nodes (vo) and cells (hs), the corrector's nodes (vo, df), the
        predictor's cells of unit u - 1 and their corners (hs, df), the P2G's
        cells of unit u and their corners (hs, sVL), to the P2G's and the
-       predictor's nodes through the upper corners of unit u + 1 */
+       predictor's nodes through the upper corners of unit u + 1 (where it
+       runs: one rank, no edge units) */
     if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u - 1 + PS_PAD - ix->gs[e]), u + 2 + PS_PAD - ix->gs[e], PetscMin(C->lag.next, u - 1) - C->xs[e], u + 1 - C->xs[e]));
-    PetscCall(ToGridUnits(S, ix, dt, dim, strength, PETSC_TRUE, u, u + 1, &tp));
-    PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, u + PS_PAD + 1);
+    /* the P2G of unit u (an edge unit's cells from their own slots; one
+       call of ToGridUnits, inlined once with dim and strength constant) */
+    if (u == eu[0]) tp.n = en[0];
+    else if (u == eu[1]) tp.n = en[1];
+    else if (u == u0) tp.n = 0;
+    PetscCall(ToGridUnits(S, &iw, dt, dim, strength, PETSC_TRUE, u, u + 1, &tp));
+    if (u < u0 || u >= u1) continue; /* (an edge unit: the corners of the cells around the owned nodes complete its ghost nodes' sums) */
+    PSGridUpdateMUSLUnits(S, &iw, dt, S->g, gn, u + PS_PAD + 1);
     gn = u + PS_PAD + 1;
     if (u > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u - 1, u, &pp));
     if (behind && u > u0) PetscCall(PSCellsRemapBehind(S, ix, dt, EV_Pipe)); /* (EV_Pipe paused while it runs) */
   }
   if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u1 - 2 + PS_PAD - ix->gs[e]), ix->gm[e], PetscMin(C->lag.next, u1 - 1) - C->xs[e], u1 - C->xs[e])); /* (the rest: every unit above them) */
-  ToGridEnd(S, ix, dim, PETSC_TRUE, &tp);
-  PSGridUpdateMUSLUnits(S, ix, dt, S->g, gn, PETSC_MAX_INT);
+  ToGridEnd(S, &iw, dim, PETSC_TRUE, &tp);
+  PSGridUpdateMUSLUnits(S, &iw, dt, S->g, gn, PETSC_MAX_INT);
   if (u1 > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u1 - 1, u1, &pp));
   PredictEnd(S, ix, dt, dim, &pp);
+  if (ix->gm[e] != ix->om[e]) PetscCall(PSHaloBcast(S->sfg, S->g)); /* (the ghosts: their owners' corrected values) */
   PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0));
   PetscFunctionReturn(PETSC_SUCCESS);
 }
