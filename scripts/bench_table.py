@@ -19,8 +19,9 @@ PYCLAW_ROW = re.compile(r"\s*2D quadrants roe_split (\d+)x\d+ t=\S+\s+\d+\s+(\d+
 # the cells' Lagrangian phases by their log events, as bench_cells.py prints
 # them (a scene of cells alone runs the Lagrangian phase a unit behind the
 # predictor, inside its event; PSCellsLagrange keeps the units after the halo)
-# (on one rank a scene of cells alone runs the first three as one pipeline of
-# units, PSCellsPipeline: their events read 0 there, the pipeline's the sum;
+# (on one rank, and on ranks split along y (z) alone, a scene of cells alone
+# runs the first three as one pipeline of units, PSCellsPipeline: their
+# events read 0 there, the pipeline's the sum;
 # the table's rows leave out a phase that reads 0)
 CELL_PHASES = [("P2G", "PSCellsP2G"), ("grid", "PSGridUpdate"), ("predictor+Lagrange", "PSCellsPredict"), ("Lagrange's rest", "PSCellsLagrange"),
                ("pipelined P2G+grid+predictor+Lagrange", "PSCellsPipeline")]
