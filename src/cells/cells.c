@@ -136,12 +136,7 @@ PetscErrorCode PSCellsCreate(PSSolver *S, const PSMaterial *mats)
   PetscCall(PetscCalloc1(C->ncl, &C->Mcell));
   PetscCall(PetscMalloc1(C->ncl, &C->sole));
   CornersBuild(S, C, &ix, &C->K);
-  {
-    PetscInt nx = 1;
-    for (d = 0; d < 3; d++) nx *= C->xm[d];
-    if (C->cs[S->dim - 1] > 0 || C->ce[S->dim - 1] < C->nc[S->dim - 1]) nx += 2 * (nx / PetscMax(C->xm[S->dim - 1], 1)); /* (room for the pipeline's two edge units under ranks along y (z): PSCellsEdgeUnits) */
-    PetscCall(PetscMalloc3(PetscMax(1, nx * PSCellsHalfSize(C)), &C->hs, nn * S->dim, &C->vo, nn * S->dim, &C->df)); /* the predictor's (lagrange.c) */
-  }
+  PetscCall(PetscMalloc3(PetscMax(1, PSCellsSlots(C) * PSCellsHalfSize(C)), &C->hs, nn * S->dim, &C->vo, nn * S->dim, &C->df)); /* the predictor's (lagrange.c; with the pipeline's edge units: PSCellsSlots) */
   PetscCall(PSHaloCreate(S, S->dim, &C->sfp));
   PetscCall(PSHaloCreate(S, 1, &C->sfk));
   S->cells = C;

@@ -105,7 +105,7 @@ PetscErrorCode PSCellsEOSSlots(PSSolver *S)
 
   PetscFunctionBeginUser;
   PSCellsEdgeUnits(C, &eu[0], &en[0], &eu[1], &en[1]);
-  if (!C->eco) PetscCall(PetscMalloc1(PetscMax(1, en[1] + en[1] - en[0]), &C->eco)); /* (the cells and two units) */
+  if (!C->eco) PetscCall(PetscMalloc1(PetscMax(1, PSCellsSlots(C)), &C->eco));
   for (q = -1; q < 2; q++) {
     /* q = -1: the cells around the owned nodes; 0, 1: the edge units */
     const PetscInt nrow = C->ce[0] - C->xs[0], nall = C->nmat; /* (locals: the stores to eco could alias C's fields) */
