@@ -23,6 +23,15 @@
              -bench_layout columns puts the four in columns a quarter wide
              instead, three interfaces across every row).
 
+-bench_apart (the quadrants only): each rank runs its own slab of the
+quadrants, the rows [r n/p, (r + 1) n/p) of the n^2 grid (walls at its cut,
+the bodies that reach into it), as a solver of its own (PETSc.COMM_SELF): the
+ranks share the machine, its L3 and memory, as p ranks of one run do, and
+each slab's own work, but exchange nothing and never wait for each other in
+a step.  Its rate per core (the slowest rank's time, as a run's) over the
+1-rank rate is a ceiling for the p-rank efficiency on this machine
+(scripts/bench_pairs.py --efficiency); its lines' name is "apart".
+
 Runs a number of steps after a warm-up and prints cell-updates per second per
 core (cells x steps / wall time of the steps), the figure PyClaw's peer script
 prints (../shared/peers/pyclaw_euler.py, run by scripts/bench); the best of
@@ -30,7 +39,7 @@ prints (../shared/peers/pyclaw_euler.py, run by scripts/bench); the best of
 takes PyClaw's best of as many (this machine's speed drifts from one run to
 the next).
 
-    mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants] [-bench_n 256] [-bench_steps 100] [-bench_reps 3] [-bench_layout quadrants]
+    mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants] [-bench_n 256] [-bench_steps 100] [-bench_reps 3] [-bench_layout quadrants] [-bench_apart]
 
 The line BENCH cells_<case>_<n>_<ranks> <rate> (case columns for the boxes in columns) is for scripts/bench's table;
 so is BENCH cells_flux_ns_<case>_<n>_<ranks>: the remap's flux phase (event
@@ -61,7 +70,8 @@ n = opts.getInt("bench_n", 256)
 steps = opts.getInt("bench_steps", 100)
 reps = opts.getInt("bench_reps", 3)
 layout = opts.getString("bench_layout", "quadrants")
-tag = "columns" if case == "boxes" and layout == "columns" else case  # (the BENCH lines' name)
+apart = opts.getBool("bench_apart", False)
+tag = "columns" if case == "boxes" and layout == "columns" else "apart" if apart else case  # (the BENCH lines' name)
 if reps < 1:
     sys.exit(f"bench_cells.py: -bench_reps must be >= 1, got {reps}")
 if case not in ("quadrants", "pure", "mixed", "boxes"):
@@ -72,10 +82,23 @@ if layout != "quadrants" and case != "boxes":
     sys.exit(f"bench_cells.py: -bench_layout {layout} is for -bench_case boxes only, got -bench_case {case}")
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
+if apart and case != "quadrants":
+    sys.exit(f"bench_cells.py: -bench_apart is for -bench_case quadrants only, got -bench_case {case}")
+if apart and n % comm.getSize():
+    sys.exit(f"bench_cells.py: -bench_apart needs -bench_n a multiple of the ranks ({comm.getSize()}), got {n}")
 
 if case == "quadrants":
     scene = quadrants_scene(n)   # (benchlib.py: the four states, each a material)
     what = "quadrants, 4 gas materials"
+    if apart:
+        # this rank's slab alone: the rows a run on as many ranks gives it
+        # (the DMDA splits n rows evenly along y), its bodies, their materials
+        p, r = comm.getSize(), comm.getRank()
+        lo, hi = r / p, (r + 1) / p
+        bodies = [bd for bd in scene.bodies if bd.box.lower[1] < hi and bd.box.upper[1] > lo]
+        mats = [mt for mt in scene.materials if mt.name in {bd.material for bd in bodies}]
+        scene = Scene(2, Grid([0, lo], [1, hi], [n, n // p], WALLS), mats, bodies, scene.run).validate()
+        what += f", each of {p} ranks its slab of {n} x {n // p} apart"
 else:
     # uniform flow (walls all round: in the steps timed the gas moves a few
     # cells, and only the cells next to the walls feel them)
@@ -105,7 +128,7 @@ best = None
 grown = None
 for _ in range(reps):
     rss0 = resident_bytes()
-    m = core.initialize(scene)
+    m = core.initialize(scene, comm=PETSc.COMM_SELF) if apart else core.initialize(scene)
     S = core.make_solver(m)
     for _ in range(5):
         S.step()

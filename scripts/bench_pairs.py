@@ -30,6 +30,14 @@ rate per core over the 1-rank rate, the two-rank efficiency, against the
 same disturbances as the ratios above (scripts/bench's main rows take the
 two runs seconds apart, once); its lines are BENCH cells_effpairs_<n>,
 cells_effpairs_lo_<n>, cells_effpairs_hi_<n> and cells_effpairs_k_<n>.
+Each pair takes a third run, right after: the 2 ranks apart (bench_cells.py
+-bench_apart: each rank its slab of the grid as a run of its own, the
+machine shared but nothing exchanged and no rank waiting for the other),
+whose rate per core over the 1-rank rate is the ceiling the machine sets the
+two-rank efficiency (the shared L3 and memory, and the slabs' own work); the
+efficiency over it is what the ranks' coupling keeps (halos, waits, the
+phases a rank with a neighbour runs apart): BENCH cells_ceilpairs_<n> and
+cells_couplepairs_<n>, each with its _lo_, _hi_ and _k_.
 """
 import argparse
 import os
@@ -79,12 +87,13 @@ def peer_rate(n):
     return None
 
 
-def plyshock_rate(n, ranks=1):
-    """plyshock's rate (cell-updates/s per core) for the quadrants at n^2 on `ranks` ranks, the best of two runs in one process."""
+def plyshock_rate(n, ranks=1, apart=False):
+    """plyshock's rate (cell-updates/s per core) for the quadrants at n^2 on `ranks` ranks, the best of two runs in one process
+    (apart: each rank its slab alone, bench_cells.py -bench_apart)."""
     steps = 100 if n <= 256 else 40
     out = run(["mpiexec", "-n", str(ranks), os.path.join(ROOT, ".venv", "bin", "python"), "scripts/bench_cells.py",
-               "-bench_n", str(n), "-bench_steps", str(steps), "-bench_reps", "2"])
-    m = re.search(rf"^BENCH cells_quadrants_{n}_{ranks} (\S+)$", out, re.M)
+               "-bench_n", str(n), "-bench_steps", str(steps), "-bench_reps", "2"] + (["-bench_apart"] if apart else []))
+    m = re.search(rf"^BENCH cells_{'apart' if apart else 'quadrants'}_{n}_{ranks} (\S+)$", out, re.M)
     if not m:
         sys.exit(f"bench_pairs.py: bench_cells.py printed no rate for {n}^2:\n{out}")
     return float(m.group(1))
@@ -108,13 +117,18 @@ def main():
     args = ap.parse_args()
     if args.efficiency:
         for n in args.sizes:
-            print(f"quadrants {n}^2, 2 ranks against 1, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (1 rank's run, then 2 ranks')", flush=True)
-            effs = []
+            print(f"quadrants {n}^2, 2 ranks against 1, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (1 rank's run, then 2 ranks', then 2 ranks apart)", flush=True)
+            effs, ceils, couples = [], [], []
             for i in range(args.pairs):
-                r1, r2 = plyshock_rate(n, 1), plyshock_rate(n, 2)
+                r1, r2, ra = plyshock_rate(n, 1), plyshock_rate(n, 2), plyshock_rate(n, 2, apart=True)
                 effs.append(r2 / r1)
-                print(f"  pair {i + 1}: 1 rank {r1 / 1e6:.3f} M/s, 2 ranks {r2 / 1e6:.3f} M/s per core, efficiency {r2 / r1:.3f}", flush=True)
+                ceils.append(ra / r1)
+                couples.append(r2 / ra)
+                print(f"  pair {i + 1}: 1 rank {r1 / 1e6:.3f} M/s, 2 ranks {r2 / 1e6:.3f} M/s per core, efficiency {r2 / r1:.3f}; "
+                      f"apart {ra / 1e6:.3f} M/s per core, ceiling {ra / r1:.3f}, coupling {r2 / ra:.3f}", flush=True)
             report("effpairs", n, "efficiency", effs)
+            report("ceilpairs", n, "ceiling (2 ranks apart against 1)", ceils)
+            report("couplepairs", n, "coupling (2 ranks against 2 apart)", couples)
         return
     for n in args.sizes:
         print(f"quadrants {n}^2 against PyClaw, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (PyClaw's runs, then plyshock's; 1 core each)", flush=True)

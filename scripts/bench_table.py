@@ -81,7 +81,7 @@ def main():
         if f"cells_{key}" not in b:
             return
         med, lo, hi, k = (b.get(f"cells_{tag}{s}_{n}", 0.0) for s in ("", "_lo", "_hi", "_k"))
-        rows.append((label, f"{k:.0f} pairs", f"{ref}, range {lo:.2f}-{hi:.2f}", f"{med:.2f}", f">= {goal:g}", "yes" if med >= goal else "no"))
+        rows.append((label, f"{k:.0f} pairs", f"{ref}, range {lo:.2f}-{hi:.2f}", f"{med:.2f}", f">= {goal:g}" if goal else "", ("yes" if med >= goal else "no") if goal else ""))
 
     for n in (256, 512):
         row(f"cells, quadrants {n}^2, 1 rank", f"cells_quadrants_{n}_1", f"pyclaw_{n}", "PyClaw 1 core, same run, best of 4 around it", 2.0)
@@ -90,6 +90,10 @@ def main():
         row(f"cells, quadrants {n}^2, 2 ranks (per core)", f"cells_quadrants_{n}_2", f"cells_quadrants_{n}_1", "1 rank, same run: efficiency", 0.85)
         # the same efficiency from runs taken in pairs (bench_pairs.py --efficiency)
         pairs_row(f"cells, quadrants {n}^2, 2 ranks (per core), in pairs with 1 rank", f"effpairs_{n}", "1 rank right before each, same run: median of the efficiencies", 0.85)
+        # the same pairs' third run, the 2 ranks apart (each its slab alone, the
+        # machine shared): the ceiling the machine sets, and what the coupling keeps
+        pairs_row(f"cells, quadrants {n}^2, 2 ranks apart (per core: each its slab alone), in the same pairs", f"ceilpairs_{n}", "1 rank, same pair: median (the machine's ceiling for the efficiency)", None)
+        pairs_row(f"cells, quadrants {n}^2, 2 ranks against 2 apart, in the same pairs", f"couplepairs_{n}", "2 ranks apart, same pair: median (what the coupling keeps)", None)
         # one gas in uniform flow, in the same bracket (no goal of its own: the
         # goal is the quadrants'; this says what their four materials cost)
         row(f"cells, one gas in uniform flow {n}^2, 1 rank", f"cells_pure_{n}_1", f"pyclaw_{n}", "PyClaw's quadrants 1 core, same run, best of 4 around it")
