@@ -503,8 +503,11 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim, transfer, tall):
     the Lagrangian phase; on two ranks split along x the separate phases,
     so this also holds the pipeline to them; on two ranks split along y
     (z), tall, the pipeline again, each rank computing the ghost nodes next
-    to its own as their owner does (its edge units' cells, PSCellsEdgeUnits):
-    the run on two ranks is checked to have taken it.
+    to its own as their owner does (its edge units' cells, PSCellsEdgeUnits),
+    and in 2D the remap's first sweep behind the Lagrangian phase, the
+    upper rank's units next to the lower rank after the remap's halo and
+    the early ones' sums kept in the one-rank order (remap.c, PSDeferred):
+    the run on two ranks is checked to have taken both.
     Before, the ranks' partial sums were added at their boundary: the 3D
     charge's state drifted by round-off from the first step, and by 3% of a
     field's largest value at step 10.  The same under transfer apic (its
@@ -528,14 +531,19 @@ def test_cells_are_bitwise_the_same_on_one_and_two_ranks(dim, transfer, tall):
     steps = 40 if dim == 2 else 20
     (u1, n1), k1 = cells_after(scene, PETSc.COMM_SELF, steps)      # each rank runs the scene alone
     PETSc.Log.begin()
-    pipe = PETSc.Log.Event("PSCellsPipeline")
-    before = pipe.getPerfInfo()["count"]
+    events = [PETSc.Log.Event(e) for e in ("PSCellsPipeline", "PSCellsP2G", "PSCellsRemap")]
+    before = [ev.getPerfInfo()["count"] for ev in events]
     (u2, n2), k2 = cells_after(scene, PETSc.COMM_WORLD, steps)
     assert k1 == k2 == steps
     if tall and transfer == "musl":
-        # (the pipeline, logged once a step, ran on both ranks at every step)
-        ran = COMM.allgather(pipe.getPerfInfo()["count"] - before)
-        assert ran == [steps, steps], f"the pipeline ran {ran} times on the two ranks in {steps} steps"
+        # the pipeline ran on both ranks at every step (logged once a step and
+        # again after each pause for the remap's units behind it; the separate
+        # P2G never ran), and in 2D the remap's first sweep behind it on both
+        # (its event logged once a step and at each batch of units behind)
+        pipe, p2g, remap = (COMM.allgather(ev.getPerfInfo()["count"] - b) for ev, b in zip(events, before))
+        assert min(pipe) >= steps and p2g == [0, 0], f"the pipeline ran {pipe} times and the separate P2G {p2g} times on the two ranks in {steps} steps"
+        if dim == 2:
+            assert min(remap) > steps, f"the remap's event ran {remap} times on the two ranks in {steps} steps: its first sweep did not run behind the pipeline"
     assert COMM.size == 2 and not np.isnan(u2).any() and not np.isnan(n2).any()
     # the charge has expanded across the ranks' boundary (the state is not the initial one)
     (u0, _), _ = cells_after(scene, PETSc.COMM_SELF, 0)

@@ -170,6 +170,8 @@ PetscErrorCode PSCellsDestroy(PSCells **C)
   PetscCall(PetscFree((*C)->sVR));
   PetscCall(PetscFree((*C)->acc));
   PetscCall(PetscFree((*C)->rsp));
+  PetscCall(PetscFree((*C)->sD));
+  PetscCall(PetscFree((*C)->sDR));
   PetscCall(PetscSFDestroy(&(*C)->sfk));
   PetscCall(PetscSFDestroy(&(*C)->sfp));
   PetscCall(DMDestroy(&(*C)->dac));

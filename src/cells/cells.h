@@ -138,6 +138,8 @@ typedef struct PSCells_ {
   PetscReal *sF, *sK, *sVL, *sA;  /* the remap's scratch (remap.c), kept between steps; sK and sVL (one and dim per local node; the remap's sVL in dim planes of nnl) from the start: the cells' P2G takes sVL before the remap */
   PetscReal *sVR;                 /* the remap's nodal velocities where its first sweep runs behind the Lagrangian phase (PSCellsRemapBehindOK), dim planes of nnl: the pipeline's P2G still reads sVL; allocated on first use */
   struct PSSweepProgress_ *rsp;   /* the remap's progress through its sweeps and its books of the step (remap.c); allocated on first use */
+  PetscReal *sD;                  /* the remap's first sweep behind the Lagrangian phase on a rank with a neighbour below (remap.c, PSDeferred): what the units taken before the halo leave for the units after it; allocated on first use */
+  PetscInt  *sDR, nsD, nsDR;      /* (its flux records' material ranges; the lengths) */
   PetscReal *sdP;                 /* the remap's KE fix: the momentum cut on a row of owned nodes, dim per node */
   PetscReal *sW;                  /* the remap's dual fluxes on a run of cells: per node column, dim planes of phi v_f and one of phi v_f^2 / 2, then a plane of flags (the cell's mid-plane carries anything), a run's length each; the Lagrangian phases' lanes use up to 15 + 2^dim dim + nh dim (the predictor's, lagrange.c) */
   PetscInt  *sR;                  /* per face of the flux ring: the materials [sR[0], sR[1]) its fluxes hold */

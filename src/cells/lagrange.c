@@ -1414,6 +1414,7 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
   PSPredictProgress pp;
   PetscInt          u, gn = PETSC_MIN_INT; /* (gn: the first unit of nodes without the grid update) */
   const PetscBool   behind = PSCellsRemapBehindOK(S, ix); /* the remap's first sweep behind the Lagrangian phase (remap.c) */
+  const PetscBool   win    = behind && ix->gm[dim - 1] == ix->om[dim - 1]; /* the window of temporaries: one rank's (docs/speed.md, forty-fourth session) */
   PSIndex           iw     = *ix; /* (the nodes the P2G and the grid update take: the owned ones and the ghost nodes next to them) */
   PetscInt          eu[2], en[2];
 
@@ -1438,7 +1439,7 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
   PetscCall(ToGridStart(S, ix, dim, PETSC_TRUE, &tp)); /* (the P2G's sums: G is not zeroed, PSGridReset) */
   PredictStart(S, ix, dim, &pp);
   if (behind) {
-    PetscCall(WindowStart(S, ix, dim)); /* (where the remap, which reads sVL otherwise, runs behind: it reads sVR) */
+    if (win) PetscCall(WindowStart(S, ix, dim)); /* (where the remap, which reads sVL otherwise, runs behind: it reads sVR) */
     PetscCall(PetscLogEventEnd(EV_Pipe, 0, 0, 0, 0)); /* (the remap's own event: PSCellsRemap; the pipeline's paused) */
     PetscCall(PSCellsRemapBehindBegin(S, ix));
     PetscCall(PetscLogEventBegin(EV_Pipe, 0, 0, 0, 0));
@@ -1449,8 +1450,9 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
        predictor's cells of unit u - 1 and their corners (hs, df), the P2G's
        cells of unit u and their corners (hs, sVL), to the P2G's and the
        predictor's nodes through the upper corners of unit u + 1 (where it
-       runs: one rank, no edge units) */
-    if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u - 1 + PS_PAD - ix->gs[e]), u + 2 + PS_PAD - ix->gs[e], PetscMin(C->lag.next, u - 1) - C->xs[e], u + 1 - C->xs[e]));
+       runs: one rank, no edge units; the remap's first sweep behind the
+       phase runs on ranks along y in 2D too, without the window) */
+    if (win) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u - 1 + PS_PAD - ix->gs[e]), u + 2 + PS_PAD - ix->gs[e], PetscMin(C->lag.next, u - 1) - C->xs[e], u + 1 - C->xs[e]));
     /* the P2G of unit u (an edge unit's cells from their own slots; one
        call of ToGridUnits, inlined once with dim and strength constant) */
     if (u == eu[0]) tp.n = en[0];
@@ -1463,7 +1465,7 @@ static inline PetscErrorCode PipelineDim(PSSolver *S, const PSIndex *ix, PetscRe
     if (u > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u - 1, u, &pp));
     if (behind && u > u0) PetscCall(PSCellsRemapBehind(S, ix, dt, EV_Pipe)); /* (EV_Pipe paused while it runs) */
   }
-  if (behind) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u1 - 2 + PS_PAD - ix->gs[e]), ix->gm[e], PetscMin(C->lag.next, u1 - 1) - C->xs[e], u1 - C->xs[e])); /* (the rest: every unit above them) */
+  if (win) PetscCall(WindowFit(C, PetscMin(PetscMin(C->lag.nb, pp.nxt - ix->gs[e]), u1 - 2 + PS_PAD - ix->gs[e]), ix->gm[e], PetscMin(C->lag.next, u1 - 1) - C->xs[e], u1 - C->xs[e])); /* (the rest: every unit above them) */
   ToGridEnd(S, &iw, dim, PETSC_TRUE, &tp);
   PSGridUpdateMUSLUnits(S, &iw, dt, S->g, gn, PETSC_MAX_INT);
   if (u1 > u0) PetscCall(PredictUnits(S, ix, dt, dim, strength, u1 - 1, u1, &pp));

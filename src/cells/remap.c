@@ -781,8 +781,11 @@ static inline void DualFluxLanes(const PetscInt dim, const PetscReal *VL, PetscI
    at most: cell j - 1's (its corner B, one along x beyond A), then cell j's
    (A), the order of DualFlux cell by cell; so the nodes of a pair of corners
    (A, B) take them in SIMD lanes, with the same sums in the same order.  A
-   cell whose mid-plane carries nothing (its flag in W) gives nothing */
-static inline void DualFluxNodes(const PetscInt dim, PetscInt o0, PetscInt sd, PetscInt s1, PetscInt s2, PetscInt ka, PetscInt kb, PetscInt w, const PetscReal *W, PetscReal *P, PetscReal *K)
+   cell whose mid-plane carries nothing (its flag in W) gives nothing.
+   rows (2D): bit 0 the corners on the cells' lower row of nodes along y
+   (the pair whose A corner is corner 0, along either d), bit 1 those on the
+   upper row; 3 all (in 3D always) */
+static inline void DualFluxNodes(const PetscInt dim, PetscInt o0, PetscInt sd, PetscInt s1, PetscInt s2, PetscInt ka, PetscInt kb, PetscInt w, const PetscReal *W, PetscReal *P, PetscReal *K, PetscInt rows)
 {
   const PetscInt   ncol = dim == 3 ? 4 : 2, nco = 2 * ncol;
   const PetscReal *Wf   = &W[ncol * (dim + 1) * w];
@@ -793,6 +796,7 @@ static inline void DualFluxNodes(const PetscInt dim, PetscInt o0, PetscInt sd, P
     /* r is an A corner (none one below it along x); rb its B */
     for (rb = 0; rb < nco && off[rb] != off[r] - 1; rb++) {}
     if (rb < nco) continue;
+    if (!(rows & (r == 0 ? 1 : 2))) continue; /* (a row of nodes left for later: PSDeferred) */
     for (rb = 0; rb < nco && off[rb] != off[r] + 1; rb++) {}
     {
       const PetscReal  sA = r & 1 ? 1.0 : -1.0, sB = rb & 1 ? 1.0 : -1.0;
@@ -837,8 +841,9 @@ static inline void DualFluxNodes(const PetscInt dim, PetscInt o0, PetscInt sd, P
    at the upwind node's velocity with a van Leer slope; free faces of the
    domain let the boundary node's share out.  VL, K: the nodes' velocity and
    kinetic energy before the sweep; P (the nodal momentum) and K take the
-   owned nodes' change */
-static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal Flo, PetscReal Fhi, const PetscReal *VL, PetscReal *P, PetscReal *K)
+   owned nodes' change; rows as DualFluxNodes's (2D: along d = x a column b
+   is a row of nodes, along d = y a side is) */
+static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt i[3], PetscReal Flo, PetscReal Fhi, const PetscReal *VL, PetscReal *P, PetscReal *K, PetscInt rows)
 {
   const PSCells  *C = S->cells;
   const PetscInt  d = sw->d, t1 = sw->t1, t2 = sw->t2, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, ncol = dim == 3 ? 4 : 2, nv = C->nnl;
@@ -876,13 +881,13 @@ static inline void DualFlux(PSSolver *S, const PSIndex *ix, const PSSweepDirs *s
       /* the column's nodes are this rank's if its transverse indices are */
       if (!(OwnedIndex(ix, t1, i[t1] + b) && (dim < 3 || OwnedIndex(ix, t2, i[t2] + a)))) continue;
       MidPlaneVelocity(dim, vu, vd, vb, nv, g, vf, &v2);
-      if (own0) {
+      if (own0 && (rows & (d == dim - 1 ? 1 : 1 << b))) {
         for (q = 0; q < dim; q++) P[dim * oL + q] -= phi * vf[q];
         K[oL] -= phi * 0.5 * v2;
         /* free faces of the domain: outflow takes the boundary node's share */
         if (bl) Outflow(S, dim, -Flo / ncol, vL, nv, &P[dim * oL], &K[oL]);
       }
-      if (own1) {
+      if (own1 && (rows & (d == dim - 1 ? 2 : 1 << b))) {
         for (q = 0; q < dim; q++) P[dim * oU + q] += phi * vf[q];
         K[oU] += phi * 0.5 * v2;
         if (bu) Outflow(S, dim, Fhi / ncol, vU, nv, &P[dim * oU], &K[oU]);
@@ -1051,8 +1056,10 @@ static inline PetscBool RunBreaks16(const short *so, const PetscInt *Rl, const P
    domain along d whose node columns are all this rank's (the ownership
    depends on x only through a range, found once per run) takes DualFlux's
    arithmetic here, in its order, without its per-cell and per-column tests;
-   any other takes DualFlux itself */
-static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, PetscInt ft, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *P, PetscReal *K)
+   any other takes DualFlux itself.  rows: the dual fluxes' rows of nodes
+   (DualFluxNodes; 3 all); 1, the lower row alone, gives no update (the
+   run's dual fluxes to a row left for later, PSDeferred) */
+static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw, const PetscInt dim, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh, PetscInt ft, const PetscInt *Rl, const PetscInt *Rh, const PetscReal *VL, PetscReal *P, PetscReal *K, PetscInt rows)
 {
   const PSCells  *C = S->cells;
   const PetscInt  d = sw->d, sd = sw->sd, s1 = sw->s1, s2 = sw->s2, fs = C->nmat * C->ms + 2;
@@ -1091,20 +1098,20 @@ static inline void CellRun(PSSolver *S, const PSIndex *ix, const PSSweepDirs *sw
      then the cells after it: the order of one loop over the run's cells */
   for (k = 0; k < n; k++) {
     if (k == ka && ka < kb) {
-      DualFluxNodes(dim, o0, sd, s1, s2, ka, kb, nw, W, P, K);
+      DualFluxNodes(dim, o0, sd, s1, s2, ka, kb, nw, W, P, K, rows);
       k = kb;
       if (k >= n) break;
     }
     {
       const PetscInt j[3] = {j0[0] + k, j0[1], j0[2]};
-      DualFlux(S, ix, sw, dim, j, Fl[k + (fs - 1) * ft], Fh[k + (fs - 1) * ft], VL, P, K);
+      DualFlux(S, ix, sw, dim, j, Fl[k + (fs - 1) * ft], Fh[k + (fs - 1) * ft], VL, P, K, rows);
     }
   }
   /* the owned cells' updates, after the run's dual fluxes (a dual flux
      reads its own cell's mass before the update alone, and the two book
      different sums): a run of cells of one gas in lanes (CellUpdateLanes),
      any other cell CellUpdate */
-  if (!owned) return;
+  if (!owned || rows == 1) return;
   for (k = PetscMax(C->cs[0] - j0[0], 0); k < n; k++) {
     const PetscInt x = j0[0] + k, ci = u0 + k;
     const PetscInt s = C->sole[ci];
@@ -1415,7 +1422,130 @@ typedef struct PSSweepProgress_ {
   PSKEProgress kp;
   PSFractions  fr;
   PSTotals     lost;    /* the remap's books this step (swapped with S->lost_local while it runs) */
+  PetscInt     ud;      /* PSDeferred: the first unit of cells the sweep takes before the halo, or -1 */
+  PetscBool    early;   /* PSDeferred: the units from ud on run (before the halo); PETSC_FALSE: those below (after it) */
+  PetscBool    saved;   /* PSDeferred: unit ud's fractions and per-cell values before the sweep kept */
+  PetscInt     rj[3], rn; /* PSDeferred: unit ud's run of cells (its dual fluxes to its lower row of nodes come after the units below) */
 } PSSweepProgress;
+
+/* The remap's first sweep behind the Lagrangian phase on a rank with a
+   neighbour below (2D, ranks along y: PSCellsRemapBehindOK).  Its lowest
+   units read ghost cells, which come with the remap's halo after the
+   Lagrangian phase; and the cells and nodes the rank below takes as its
+   ghosts (the owned rows cs .. cs + 2, the owned nodes' lowest two rows)
+   must go to it as the Lagrangian phase left them.  So the sweep takes the
+   units of cells from ud = cs + 3 up behind the Lagrangian phase (early),
+   and the units below after the halo: the cells' fractions and per-cell
+   values of those units built again from the state the halo brought,
+   unit ud's as they were before the sweep (kept when the early units built
+   them: the early units have updated its cells since); along y the
+   faces of slices ud - 1 and ud, taken early (their donors' neighbours
+   are owned cells, and the faces of slice ud - 1 read the cells of unit ud
+   as the sweep found them) and kept for the cells of slices ud - 2 and
+   ud - 1.  Every
+   cell, face and value is the one the sweep computes in order on one rank.
+   The nodes: row n (grid index along y) takes the dual fluxes of the cells
+   of rows n - 1 - PS_PAD (its upper row) and n - PS_PAD (its lower row), in
+   that order; the early unit ud's dual fluxes to its lower row (n = ud +
+   PS_PAD) wait until the units below have given theirs (CellRun's rows),
+   and are then computed again from what they read (the unit's cells'
+   masses before the sweep and the faces' mass fluxes, kept), so every sum
+   is taken in the one-rank order.  The KE fix takes the nodes from that
+   row up after the halo (kp->node0).  The rank below needs nothing of the
+   kind: its units next to its neighbour above wait for the halo as on one
+   rank the box's last ones wait for the Lagrangian phase (RemapBehindDim's
+   bound keeps them, and its nodes the rank above reads, untouched).  The
+   kept values, in C->sD (and C->sDR): */
+typedef struct {
+  PetscReal *A, *S, *P, *M; /* unit ud's fractions' planes and per-cell values (FractionsUnits's ring slots) */
+  PetscReal *Mc;            /* unit ud's run's cells' masses before the sweep */
+  PetscReal *Fl, *Fh;       /* its faces' records (plane fs - 1, the mass fluxes, alone; along x Fh = Fl + 1) */
+  PetscReal *F;             /* along y the face slices ud - 1 and ud's records */
+  PetscInt  *R;             /* and their material ranges */
+} PSDeferred;
+
+/* PSDeferred's arrays in C->sD and C->sDR, grown where this sweep needs more */
+static PetscErrorCode DeferredArrays(PSCells *C, const PSSweepProgress *sp, PSDeferred *b)
+{
+  const PetscInt e = C->dim - 1, fs = C->nmat * C->ms + 2, ce = C->cst[e];
+  const PetscInt nA = (sp->fr.np - 1) * sp->fr.s[e], nS = (C->ms - 1) * ce, nF = fs * sp->ft + 1;
+  const PetscInt n = nA + nS + 3 * ce + 2 * nF + 2 * fs * sp->ft, nr = 4 * sp->ns;
+
+  PetscFunctionBeginUser;
+  if (n > C->nsD) {
+    PetscCall(PetscFree(C->sD));
+    PetscCall(PetscMalloc1(n, &C->sD));
+    C->nsD = n;
+  }
+  if (nr > C->nsDR) {
+    PetscCall(PetscFree(C->sDR));
+    PetscCall(PetscMalloc1(nr, &C->sDR));
+    C->nsDR = nr;
+  }
+  b->A  = C->sD;
+  b->S  = b->A + nA;
+  b->P  = b->S + nS;
+  b->M  = b->P + ce;
+  b->Mc = b->M + ce;
+  b->Fl = b->Mc + ce;
+  b->Fh = b->Fl + nF;
+  b->F  = b->Fh + nF;
+  b->R  = C->sDR;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* unit ud's fractions' planes and per-cell values (its slots in the rings,
+   FractionsUnits) kept, or put back (and their copies after the rings'
+   ends: RingRepeat) */
+static PetscErrorCode DeferredUnit(PSCells *C, PSFractions *fr, const PSDeferred *b, PetscInt ud, PetscBool restore)
+{
+  const PetscInt e = C->dim - 1, ce = C->cst[e], ms = C->ms, se = fr->s[e], slot = (ud - fr->o[e]) % PS_RING, gslot = (ud - C->gs[e]) % PS_RING;
+  PetscReal     *S = &C->sS[(ms - 1) * gslot * ce], *P = &C->sP[gslot * ce], *M = &C->sM[gslot * ce];
+  PetscInt       m;
+
+  PetscFunctionBeginUser;
+  for (m = fr->mk ? 0 : 1; m < fr->np - 1; m++) {
+    PetscReal *a = &fr->A[m * fr->ps + slot * se];
+    if (restore) {
+      PetscCall(PetscArraycpy(a, &b->A[m * se], se));
+      RingRepeat(&fr->A[m * fr->ps], slot, se);
+    } else PetscCall(PetscArraycpy(&b->A[m * se], a, se));
+  }
+  if (restore) {
+    PetscCall(PetscArraycpy(S, b->S, (ms - 1) * ce));
+    PetscCall(PetscArraycpy(P, b->P, ce));
+    PetscCall(PetscArraycpy(M, b->M, ce));
+    RingRepeat(C->sP, gslot, ce);
+    RingRepeat(C->sM, gslot, ce);
+    RingRepeat(C->sS, gslot, (ms - 1) * ce);
+  } else {
+    PetscCall(PetscArraycpy(b->S, S, (ms - 1) * ce));
+    PetscCall(PetscArraycpy(b->P, P, ce));
+    PetscCall(PetscArraycpy(b->M, M, ce));
+  }
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* the early unit ud's run of cells j0, n (its faces' records Fl, Fh,
+   planes ft apart) before CellRun updates them: what its dual fluxes to
+   its lower row of nodes read (the cells' masses, the faces' mass fluxes) */
+static PetscErrorCode DeferredRunKeep(PSSolver *S, PSSweepProgress *sp, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh)
+{
+  PSCells       *C  = S->cells;
+  const PetscInt fs = C->nmat * C->ms + 2, ft = sp->ft, q = (fs - 1) * ft;
+  PSDeferred     b;
+
+  PetscFunctionBeginUser;
+  PetscCall(DeferredArrays(C, sp, &b));
+  PetscCall(PetscArraycpy(b.Mc, &C->Mcell[PSCellIdx(C, j0[0], j0[1], j0[2])], n));
+  PetscCall(PetscArraycpy(&b.Fl[q], &Fl[q], n + (sp->d == 0 ? 1 : 0))); /* (along x Fh is Fl + 1) */
+  if (sp->d != 0) PetscCall(PetscArraycpy(&b.Fh[q], &Fh[q], n));
+  sp->rj[0] = j0[0];
+  sp->rj[1] = j0[1];
+  sp->rj[2] = j0[2];
+  sp->rn    = n;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
 
 /* the remap's books in S->lost_local while it runs, the rest of the step's
    kept aside (and back) */
@@ -1469,6 +1599,12 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
   sp->lanes = C->ms == PS_CQ && S->run.lanes != 1 ? PETSC_TRUE : PETSC_FALSE; /* (FractionsRun: gas blocks) */
   sp->nw    = PSCellsPlaneLen(C, ix);
   SweepDirs(C, ix, dim, d, &sp->sw);
+  /* the first sweep behind the Lagrangian phase on a rank with a neighbour
+     below: its units from ud up before the halo, the others after it
+     (PSDeferred) */
+  sp->ud    = sp->behind && first && dim == 2 && ix->gs[dim - 1] < ix->os[dim - 1] ? C->cs[dim - 1] + 3 : -1;
+  sp->early = sp->ud >= 0 ? PETSC_TRUE : PETSC_FALSE;
+  sp->saved = PETSC_FALSE;
   /* the KE fix behind the cells' update, where it can (PSKEProgress);
    -run_lanes 1 keeps it to its own pass, for checks */
   {
@@ -1482,6 +1618,7 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
        halo, after the others (in that order fused or not: the books' sums
        the same both ways) */
     kp->node0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(ix->os[e0], C->cs[e0] + PS_PAD + 1), nend) : ix->os[e0];
+    if (sp->ud >= 0) kp->node0 = PetscMin(PetscMax(kp->node0, sp->ud + PS_PAD + 1), nend); /* (PSDeferred: the early unit's lower row of nodes and those below after the halo) */
     kp->cell0 = ix->gs[e0] < ix->os[e0] ? PetscMin(PetscMax(C->cs[e0], kp->node0 - PS_PAD), C->ce[e0]) : C->cs[e0];
     kp->node  = kp->node0;
     kp->cell  = kp->cell0;
@@ -1505,10 +1642,15 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
     sp->u  = sp->lo[dim - 1];
     sp->u1 = sp->hi[dim - 1];
   }
+  if (sp->ud >= 0) sp->u = d == dim - 1 ? sp->ud - 1 : sp->ud; /* (PSDeferred: the early units; along y from the faces of slice ud - 1) */
   PetscCall(PetscLogEventBegin(EV_Prep, 0, 0, 0, 0));
   sp->ft = PSCellsPadPlane(d == 0 ? sp->hi[0] - sp->lo[0] : sp->ns); /* (the flux records' planes: PSCellsPadPlane) */
   PetscCall(ScratchSize(C, d == 0 ? sp->ft : 3 * sp->ft, fs)); /* a line's faces along x, or three slices' */
   PetscCall(FractionsSetup(C, &sp->fr));
+  if (sp->ud >= 0) {
+    PSDeferred b;
+    PetscCall(DeferredArrays(C, sp, &b)); /* (allocated here, once the sweep's sizes are known) */
+  }
   sp->nprep = 0;
   if (!sp->behind) {
     PrepNodes(C, dim, first, sp->VL, 0, C->nnl);
@@ -1536,13 +1678,22 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
 static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, const PetscInt dim)
 {
   PSCells           *C = S->cells;
-  const PetscInt     d = sp->d, fs = C->nmat * C->ms + 2, ns = sp->ns, ft = sp->ft, *lo = sp->lo, *hi = sp->hi, U = sp->u;
+  const PetscInt     d = sp->d, fs = C->nmat * C->ms + 2, ns = sp->ns, ft = sp->ft, *lo = sp->lo, *hi = sp->hi, U = sp->u, ud = sp->ud;
   const PSSweepDirs *sw = &sp->sw;
   PSFractions       *fr = &sp->fr;
   PetscReal         *F = C->sF, *K = C->sK, *VL = sp->VL, *P = C->P;
   PetscInt          *R = C->sR;
 
   PetscFunctionBeginUser;
+  /* (PSDeferred: unit ud's fractions and per-cell values kept before the
+     early units update its cells) */
+  if (ud >= 0 && sp->early && !sp->saved) {
+    PSDeferred b;
+    PetscCall(DeferredArrays(C, sp, &b));
+    FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, ud);
+    PetscCall(DeferredUnit(C, fr, &b, ud, PETSC_FALSE));
+    sp->saved = PETSC_TRUE;
+  }
   if (d == 0) {
     /* along x a slice is one face: line by line instead, all its faces (they
        read the cells before the sweep only), then its cells in order: the
@@ -1552,20 +1703,26 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
     PetscInt       j[3];
     j[2] = dim == 3 ? U : 0;
     for (j[1] = dim == 3 ? lo[1] : U; j[1] < (dim == 3 ? hi[1] : U + 1); j[1]++) {
+      const PetscBool first = ud >= 0 && sp->early && U == ud; /* (PSDeferred: its lower row's dual fluxes later) */
       j[0] = lo[0];
       FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, U + 1);
       FaceRun(S, ix, fr, dt, sw, dim, j, nf, F, ft, R);
-      CellRun(S, ix, sw, dim, j, nf - 1, F, &F[1], ft, R, &R[2], VL, P, K);
+      if (first) PetscCall(DeferredRunKeep(S, sp, j, nf - 1, F, &F[1]));
+      CellRun(S, ix, sw, dim, j, nf - 1, F, &F[1], ft, R, &R[2], VL, P, K, first ? 2 : 3);
     }
     PetscCall(KEBehind(S, ix, sw, dim, sp->last, U, VL, &sp->kp)); /* (the row or plane of cells U done) */
   } else {
     /* the slices along d: one pass of them per plane U (d = y in 3D), or
-       the slice U (d = y in 2D, d = z) */
+       the slice U (d = y in 2D, d = z).  PSDeferred: the early units from
+       the faces of slice ud - 1 and the cells of slice ud on, the faces of
+       slices ud - 1 and ud kept; the units below after the halo, through
+       the cells of slice ud - 1 (those faces put back) */
     const PetscInt l0 = d == dim - 1 ? U : lo[d], l1 = d == dim - 1 ? U + 1 : hi[d] + 2;
     PetscInt       lead, c;
     for (lead = l0; lead < l1; lead++) {
+      const PetscBool faces = ud < 0 || (sp->early ? lead >= ud - 1 : lead < ud - 1);
       /* the faces of slice lead */
-      if (lead < hi[d]) {
+      if (lead < hi[d] && faces) {
         FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, (dim == 3 && d == 1 ? U : lead) + 1);
         PetscReal *Fs = &F[(lead % 3) * ft * fs];
         PetscInt  *Rs = &R[(lead % 3) * ns * 2];
@@ -1576,18 +1733,31 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
           j[0] = jl[0];
           FaceRun(S, ix, fr, dt, sw, dim, j, jh[0] - jl[0], &Fs[n], ft, &Rs[2 * n]);
         }
+        if (ud >= 0 && (lead == ud - 1 || lead == ud)) { /* (kept: the cells of slices ud - 2 and ud - 1 read them after the halo) */
+          PSDeferred b;
+          PetscCall(DeferredArrays(C, sp, &b));
+          PetscCall(PetscArraycpy(&b.F[(lead - ud + 1) * ft * fs], Fs, ft * fs));
+          PetscCall(PetscArraycpy(&b.R[(lead - ud + 1) * ns * 2], Rs, 2 * ns));
+        }
+      } else if (ud >= 0 && !sp->early && (lead == ud - 1 || lead == ud)) {
+        PSDeferred b;
+        PetscCall(DeferredArrays(C, sp, &b));
+        PetscCall(PetscArraycpy(&F[(lead % 3) * ft * fs], &b.F[(lead - ud + 1) * ft * fs], ft * fs));
+        PetscCall(PetscArraycpy(&R[(lead % 3) * ns * 2], &b.R[(lead - ud + 1) * ns * 2], 2 * ns));
       }
       /* the cells of slice c = lead - 2, between faces c and c + 1 */
       c = lead - 2;
-      if (c >= lo[d] && c < hi[d] - 1) {
+      if (c >= lo[d] && c < hi[d] - 1 && (ud < 0 || (sp->early ? c >= ud : c < ud))) {
         const PetscReal *Fl = &F[(c % 3) * ft * fs], *Fh = &F[((c + 1) % 3) * ft * fs];
         const PetscInt  *Rl = &R[(c % 3) * ns * 2], *Rh = &R[((c + 1) % 3) * ns * 2];
+        const PetscBool  first = ud >= 0 && sp->early && c == ud; /* (PSDeferred: its lower row's dual fluxes later) */
         PetscInt         j[3] = {0, 0, dim == 3 && d == 1 ? U : 0}, jl[2], jh[2], n = 0;
         j[d] = c;
         SliceRange(d, lo, hi, j, jl, jh);
         for (j[1] = jl[1]; j[1] < jh[1]; j[1]++, n += jh[0] - jl[0]) {
           j[0] = jl[0];
-          CellRun(S, ix, sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ft, &Rl[2 * n], &Rh[2 * n], VL, P, K);
+          if (first) PetscCall(DeferredRunKeep(S, sp, j, jh[0] - jl[0], &Fl[n], &Fh[n]));
+          CellRun(S, ix, sw, dim, j, jh[0] - jl[0], &Fl[n], &Fh[n], ft, &Rl[2 * n], &Rh[2 * n], VL, P, K, first ? 2 : 3);
         }
         if (d == dim - 1) PetscCall(KEBehind(S, ix, sw, dim, sp->last, c, VL, &sp->kp)); /* (the slice c: a unit) */
       }
@@ -1595,6 +1765,39 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
     if (dim == 3 && d == 1) PetscCall(KEBehind(S, ix, sw, dim, sp->last, U, VL, &sp->kp)); /* (the plane U) */
   }
   sp->u++;
+  PetscFunctionReturn(PETSC_SUCCESS);
+}
+
+/* PSDeferred's units after the halo: the units of cells below ud (their
+   fractions and per-cell values built again, unit ud's put back), then the
+   early unit ud's dual fluxes to its lower row of nodes, from what they read
+   (its cells' masses before the sweep put back for them, and taken away
+   again after).  Then the sweep is whole: its box's fractions built (none
+   is read again) */
+static inline PetscErrorCode DeferredUnits(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, const PetscInt dim)
+{
+  PSCells       *C = S->cells;
+  const PetscInt e = dim - 1, ud = sp->ud, u1 = sp->u1, n = sp->rn;
+  PSFractions   *fr = &sp->fr;
+  PSDeferred     b;
+  PetscReal     *Mc;
+
+  PetscFunctionBeginUser;
+  PetscCall(DeferredArrays(C, sp, &b));
+  sp->early = PETSC_FALSE;
+  fr->built = 0;
+  FractionsUpTo(C, fr, sp->d, sp->lanes, sp->nw, C->sW, ud - 1);
+  PetscCall(DeferredUnit(C, fr, &b, ud, PETSC_TRUE));
+  fr->built = ud - fr->o[e] + 1;
+  for (sp->u = sp->lo[e]; sp->u < (sp->d == e ? ud + 2 : ud);) PetscCall(SweepUnit(S, ix, sp, dt, dim));
+  /* unit ud's dual fluxes to its lower row of nodes */
+  Mc = &C->Mcell[PSCellIdx(C, sp->rj[0], sp->rj[1], sp->rj[2])];
+  PetscCall(PetscArraycpy(b.F, Mc, n)); /* (the cells' masses after the sweep, aside in b.F: no longer read) */
+  PetscCall(PetscArraycpy(Mc, b.Mc, n));
+  CellRun(S, ix, &sp->sw, dim, sp->rj, n, b.Fl, sp->d == 0 ? &b.Fl[1] : b.Fh, sp->ft, NULL, NULL, sp->VL, C->P, C->sK, 1);
+  PetscCall(PetscArraycpy(Mc, b.F, n));
+  fr->built = fr->n[e];
+  sp->u     = u1;
   PetscFunctionReturn(PETSC_SUCCESS);
 }
 
@@ -1663,6 +1866,7 @@ static inline PetscErrorCode SweepRest(PSSolver *S, const PSIndex *ix, PSSweepPr
   }
   PetscCall(PetscLogEventBegin(EV_Flux, 0, 0, 0, 0));
   while (sp->u < sp->u1) PetscCall(SweepUnit(S, ix, sp, dt, dim));
+  if (sp->ud >= 0 && sp->early) PetscCall(DeferredUnits(S, ix, sp, dt, dim)); /* (the units below the early ones, after the halo) */
   PetscCall(SweepEnd(S, ix, sp, dim)); /* (ends EV_Flux) */
   PetscFunctionReturn(PETSC_SUCCESS);
 }
@@ -1711,9 +1915,12 @@ static PetscErrorCode RemapStart(PSSolver *S, PetscBool behind)
 }
 
 /* whether the remap's first sweep can run behind the Lagrangian phase: a
-   scene the cells' pipeline serves (PSCellsPipelined: one rank, no ghost
-   nodes) whose halos exchange nothing (the remap's exchange of the
-   Lagrangian state and momentum before its first sweep is then empty) */
+   scene the cells' pipeline serves (PSCellsPipelined) on one rank (the
+   remap's exchange of the Lagrangian state and momentum before its first
+   sweep is then empty), or in 2D on ranks along y with eight rows of cells
+   or more each (PSDeferred: the units next to a rank below after that
+   exchange; next to a rank above they wait for it as the box's last ones
+   wait for the phase) */
 PetscBool PSCellsRemapBehindOK(const PSSolver *S, const PSIndex *ix)
 {
   const PSCells *C = S->cells;
@@ -1721,7 +1928,10 @@ PetscBool PSCellsRemapBehindOK(const PSSolver *S, const PSIndex *ix)
 
   if (!PSCellsPipelined(S, ix)) return PETSC_FALSE;
   if (PetscSFGetGraph(C->sfu, NULL, &nu, NULL, NULL) || PetscSFGetGraph(C->sfp, NULL, &np, NULL, NULL)) return PETSC_FALSE;
-  return nu == 0 && np == 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (nu == 0 && np == 0) return PETSC_TRUE;
+  /* ranks along y in 2D (PSDeferred), each with rows enough for units
+     before and after the halo */
+  return S->dim == 2 && C->ce[1] - C->cs[1] >= 8 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* the remap's first sweep behind the Lagrangian phase (lagrange.c's
@@ -1807,10 +2017,20 @@ PetscErrorCode PSCellsRemap(PSSolver *S, const PSIndex *ix, PetscReal dt)
   sp = C->rsp;
   BooksSwap(S, sp);
   /* ghosts of the Lagrangian state (volumes, energies) and momentum (none
-     where the first sweep ran behind the Lagrangian phase:
+     where the first sweep ran behind the Lagrangian phase on one rank:
      PSCellsRemapBehindOK) */
   PetscCall(PSCellsExchange(C));
   PetscCall(PSHaloBcast(C->sfp, C->P));
+  /* where the first sweep began behind the Lagrangian phase on a rank with
+     neighbours, the ghost nodes' velocities (and kinetic energies) it took
+     from their momentum before their owners' came: again (PrepNodes; the
+     units that read them run after the halo) */
+  if (sp->on && sp->nprep > 0 && ix->gm[S->dim - 1] != ix->om[S->dim - 1]) {
+    const PetscInt e = S->dim - 1, unit = S->dim == 3 ? ix->gm[0] * ix->gm[1] : ix->gm[0];
+    const PetscInt lo = PetscMin((ix->os[e] - ix->gs[e]) * unit, sp->nprep), hi = (ix->os[e] + ix->om[e] - ix->gs[e]) * unit;
+    PrepNodes(C, S->dim, sp->first, sp->VL, 0, lo);
+    if (hi < sp->nprep) PrepNodes(C, S->dim, sp->first, sp->VL, hi, sp->nprep);
+  }
   for (s = 0; s < S->dim; s++) {
     d = C->sweep0 == 0 ? s : S->dim - 1 - s;
     /* (a sweep ends with its cells' exchange; the heat of the KE fix, which
