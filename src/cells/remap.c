@@ -1442,8 +1442,8 @@ typedef struct PSSweepProgress_ {
    faces of slices ud - 1 and ud, taken early (their donors' neighbours
    are owned cells, and the faces of slice ud - 1 read the cells of unit ud
    as the sweep found them) and kept for the cells of slices ud - 2 and
-   ud - 1.  Every
-   cell, face and value is the one the sweep computes in order on one rank.
+   ud - 1.  Every cell, face and value is the one the sweep computes in
+   order on one rank.
    The nodes: row n (grid index along y) takes the dual fluxes of the cells
    of rows n - 1 - PS_PAD (its upper row) and n - PS_PAD (its lower row), in
    that order; the early unit ud's dual fluxes to its lower row (n = ud +
