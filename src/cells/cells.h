@@ -350,14 +350,6 @@ static inline PetscInt PSCellsXIdx(const PSCells *C, PetscInt i, PetscInt j, Pet
   return ((k - C->xs[2]) * C->xm[1] + (j - C->xs[1])) * C->xm[0] + (i - C->xs[0]);
 }
 
-/* The units of ghost cells along y (2D) or z (3D) next to the cells around
-   the owned nodes that the pipeline of a rank with neighbours along that
-   direction alone also takes (lagrange.c, PipelineDim): the unit below them
-   (xs - 1, under a rank below, where it lies in the domain) and the one
-   above (ce, under a rank above): their corners' sums give the ghost nodes
-   next to the owned ones, computed there as their owner computes them.
-   Each a unit (-1: none) and the index of its first cell among the per-cell
-   slots (C->eco, C->hs: after the PSCellsXIdx cells, PSCellsSlots) */
 /* the per-cell slots of C->eco and C->hs: the cells around the owned nodes
    (PSCellsXIdx), and room for the two edge units where the rank has a
    neighbour along y (2D) or z (3D) */
@@ -367,6 +359,14 @@ static inline PetscInt PSCellsSlots(const PSCells *C)
   return nx + (C->cs[e] > 0 || C->ce[e] < C->nc[e] ? 2 * (nx / PetscMax(C->xm[e], 1)) : 0);
 }
 
+/* The units of ghost cells along y (2D) or z (3D) next to the cells around
+   the owned nodes that the pipeline of a rank with neighbours along that
+   direction alone also takes (lagrange.c, PipelineDim): the unit below them
+   (xs - 1, under a rank below, where it lies in the domain) and the one
+   above (ce, under a rank above): their corners' sums give the ghost nodes
+   next to the owned ones, computed there as their owner computes them.
+   Each a unit (-1: none) and the index of its first cell among the per-cell
+   slots (C->eco, C->hs: after the PSCellsXIdx cells, PSCellsSlots) */
 static inline void PSCellsEdgeUnits(const PSCells *C, PetscInt *lo, PetscInt *nlo, PetscInt *hi, PetscInt *nhi)
 {
   const PetscInt e = C->dim - 1, nx = C->xm[0] * C->xm[1] * C->xm[2], unit = nx / PetscMax(C->xm[e], 1);

@@ -1426,7 +1426,15 @@ typedef struct PSSweepProgress_ {
   PetscBool    early;   /* PSDeferred: the units from ud on run (before the halo); PETSC_FALSE: those below (after it) */
   PetscBool    saved;   /* PSDeferred: unit ud's fractions and per-cell values before the sweep kept */
   PetscInt     rj[3], rn; /* PSDeferred: unit ud's run of cells (its dual fluxes to its lower row of nodes come after the units below) */
+  struct PSDeferred_ {
+    PetscReal *A, *S, *P, *M; /* unit ud's fractions' planes and per-cell values (FractionsUnits's ring slots) */
+    PetscReal *Mc;            /* unit ud's run's cells' masses before the sweep */
+    PetscReal *Fl, *Fh;       /* its faces' records (plane fs - 1, the mass fluxes, alone; along x Fh = Fl + 1) */
+    PetscReal *F;             /* along y the face slices ud - 1 and ud's records */
+    PetscInt  *R;             /* and their material ranges */
+  } def;                      /* PSDeferred: what the early units keep for the others (in C->sD, C->sDR: DeferredArrays) */
 } PSSweepProgress;
+typedef struct PSDeferred_ PSDeferred;
 
 /* The remap's first sweep behind the Lagrangian phase on a rank with a
    neighbour below (2D, ranks along y: PSCellsRemapBehindOK).  Its lowest
@@ -1455,18 +1463,17 @@ typedef struct PSSweepProgress_ {
    kind: its units next to its neighbour above wait for the halo as on one
    rank the box's last ones wait for the Lagrangian phase (RemapBehindDim's
    bound keeps them, and its nodes the rank above reads, untouched).  The
-   kept values, in C->sD (and C->sDR): */
-typedef struct {
-  PetscReal *A, *S, *P, *M; /* unit ud's fractions' planes and per-cell values (FractionsUnits's ring slots) */
-  PetscReal *Mc;            /* unit ud's run's cells' masses before the sweep */
-  PetscReal *Fl, *Fh;       /* its faces' records (plane fs - 1, the mass fluxes, alone; along x Fh = Fl + 1) */
-  PetscReal *F;             /* along y the face slices ud - 1 and ud's records */
-  PetscInt  *R;             /* and their material ranges */
-} PSDeferred;
+   kept values: sp->def, in C->sD (and C->sDR).  ud - cs is the ghost rows'
+   count (PS_CELL_GHOST), and a rank takes it with 2 PS_CELL_GHOST + 2 rows
+   or more (PSCellsRemapBehindOK: units before the halo between those next
+   to either neighbour) */
 
-/* PSDeferred's arrays in C->sD and C->sDR, grown where this sweep needs more */
-static PetscErrorCode DeferredArrays(PSCells *C, const PSSweepProgress *sp, PSDeferred *b)
+/* PSDeferred's arrays (sp->def) in C->sD and C->sDR, grown where this
+   sweep needs more (SweepBegin) */
+static PetscErrorCode DeferredArrays(PSCells *C, PSSweepProgress *sp)
 {
+  PSDeferred *b = &sp->def;
+
   const PetscInt e = C->dim - 1, fs = C->nmat * C->ms + 2, ce = C->cst[e];
   const PetscInt nA = (sp->fr.np - 1) * sp->fr.s[e], nS = (C->ms - 1) * ce, nF = fs * sp->ft + 1;
   const PetscInt n = nA + nS + 3 * ce + 2 * nF + 2 * fs * sp->ft, nr = 4 * sp->ns;
@@ -1531,15 +1538,14 @@ static PetscErrorCode DeferredUnit(PSCells *C, PSFractions *fr, const PSDeferred
    its lower row of nodes read (the cells' masses, the faces' mass fluxes) */
 static PetscErrorCode DeferredRunKeep(PSSolver *S, PSSweepProgress *sp, const PetscInt j0[3], PetscInt n, const PetscReal *Fl, const PetscReal *Fh)
 {
-  PSCells       *C  = S->cells;
-  const PetscInt fs = C->nmat * C->ms + 2, ft = sp->ft, q = (fs - 1) * ft;
-  PSDeferred     b;
+  PSCells          *C  = S->cells;
+  const PetscInt    fs = C->nmat * C->ms + 2, ft = sp->ft, q = (fs - 1) * ft;
+  const PSDeferred *b  = &sp->def;
 
   PetscFunctionBeginUser;
-  PetscCall(DeferredArrays(C, sp, &b));
-  PetscCall(PetscArraycpy(b.Mc, &C->Mcell[PSCellIdx(C, j0[0], j0[1], j0[2])], n));
-  PetscCall(PetscArraycpy(&b.Fl[q], &Fl[q], n + (sp->d == 0 ? 1 : 0))); /* (along x Fh is Fl + 1) */
-  if (sp->d != 0) PetscCall(PetscArraycpy(&b.Fh[q], &Fh[q], n));
+  PetscCall(PetscArraycpy(b->Mc, &C->Mcell[PSCellIdx(C, j0[0], j0[1], j0[2])], n));
+  PetscCall(PetscArraycpy(&b->Fl[q], &Fl[q], n + (sp->d == 0 ? 1 : 0))); /* (along x Fh is Fl + 1) */
+  if (sp->d != 0) PetscCall(PetscArraycpy(&b->Fh[q], &Fh[q], n));
   sp->rj[0] = j0[0];
   sp->rj[1] = j0[1];
   sp->rj[2] = j0[2];
@@ -1602,7 +1608,7 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
   /* the first sweep behind the Lagrangian phase on a rank with a neighbour
      below: its units from ud up before the halo, the others after it
      (PSDeferred) */
-  sp->ud    = sp->behind && first && dim == 2 && ix->gs[dim - 1] < ix->os[dim - 1] ? C->cs[dim - 1] + 3 : -1;
+  sp->ud    = sp->behind && first && dim == 2 && ix->gs[dim - 1] < ix->os[dim - 1] ? C->cs[dim - 1] + PS_CELL_GHOST : -1;
   sp->early = sp->ud >= 0 ? PETSC_TRUE : PETSC_FALSE;
   sp->saved = PETSC_FALSE;
   /* the KE fix behind the cells' update, where it can (PSKEProgress);
@@ -1647,10 +1653,7 @@ static inline PetscErrorCode SweepBegin(PSSolver *S, const PSIndex *ix, PSSweepP
   sp->ft = PSCellsPadPlane(d == 0 ? sp->hi[0] - sp->lo[0] : sp->ns); /* (the flux records' planes: PSCellsPadPlane) */
   PetscCall(ScratchSize(C, d == 0 ? sp->ft : 3 * sp->ft, fs)); /* a line's faces along x, or three slices' */
   PetscCall(FractionsSetup(C, &sp->fr));
-  if (sp->ud >= 0) {
-    PSDeferred b;
-    PetscCall(DeferredArrays(C, sp, &b)); /* (allocated here, once the sweep's sizes are known) */
-  }
+  if (sp->ud >= 0) PetscCall(DeferredArrays(C, sp)); /* (here, once the sweep's sizes are known) */
   sp->nprep = 0;
   if (!sp->behind) {
     PrepNodes(C, dim, first, sp->VL, 0, C->nnl);
@@ -1688,10 +1691,8 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
   /* (PSDeferred: unit ud's fractions and per-cell values kept before the
      early units update its cells) */
   if (ud >= 0 && sp->early && !sp->saved) {
-    PSDeferred b;
-    PetscCall(DeferredArrays(C, sp, &b));
     FractionsUpTo(C, fr, d, sp->lanes, sp->nw, C->sW, ud);
-    PetscCall(DeferredUnit(C, fr, &b, ud, PETSC_FALSE));
+    PetscCall(DeferredUnit(C, fr, &sp->def, ud, PETSC_FALSE));
     sp->saved = PETSC_TRUE;
   }
   if (d == 0) {
@@ -1734,16 +1735,12 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
           FaceRun(S, ix, fr, dt, sw, dim, j, jh[0] - jl[0], &Fs[n], ft, &Rs[2 * n]);
         }
         if (ud >= 0 && (lead == ud - 1 || lead == ud)) { /* (kept: the cells of slices ud - 2 and ud - 1 read them after the halo) */
-          PSDeferred b;
-          PetscCall(DeferredArrays(C, sp, &b));
-          PetscCall(PetscArraycpy(&b.F[(lead - ud + 1) * ft * fs], Fs, ft * fs));
-          PetscCall(PetscArraycpy(&b.R[(lead - ud + 1) * ns * 2], Rs, 2 * ns));
+          PetscCall(PetscArraycpy(&sp->def.F[(lead - ud + 1) * ft * fs], Fs, ft * fs));
+          PetscCall(PetscArraycpy(&sp->def.R[(lead - ud + 1) * ns * 2], Rs, 2 * ns));
         }
       } else if (ud >= 0 && !sp->early && (lead == ud - 1 || lead == ud)) {
-        PSDeferred b;
-        PetscCall(DeferredArrays(C, sp, &b));
-        PetscCall(PetscArraycpy(&F[(lead % 3) * ft * fs], &b.F[(lead - ud + 1) * ft * fs], ft * fs));
-        PetscCall(PetscArraycpy(&R[(lead % 3) * ns * 2], &b.R[(lead - ud + 1) * ns * 2], 2 * ns));
+        PetscCall(PetscArraycpy(&F[(lead % 3) * ft * fs], &sp->def.F[(lead - ud + 1) * ft * fs], ft * fs));
+        PetscCall(PetscArraycpy(&R[(lead % 3) * ns * 2], &sp->def.R[(lead - ud + 1) * ns * 2], 2 * ns));
       }
       /* the cells of slice c = lead - 2, between faces c and c + 1 */
       c = lead - 2;
@@ -1777,25 +1774,24 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
 static inline PetscErrorCode DeferredUnits(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, const PetscInt dim)
 {
   PSCells       *C = S->cells;
-  const PetscInt e = dim - 1, ud = sp->ud, u1 = sp->u1, n = sp->rn;
-  PSFractions   *fr = &sp->fr;
-  PSDeferred     b;
-  PetscReal     *Mc;
+  const PetscInt    e = dim - 1, ud = sp->ud, u1 = sp->u1, n = sp->rn;
+  PSFractions      *fr = &sp->fr;
+  const PSDeferred *b  = &sp->def;
+  PetscReal        *Mc;
 
   PetscFunctionBeginUser;
-  PetscCall(DeferredArrays(C, sp, &b));
   sp->early = PETSC_FALSE;
   fr->built = 0;
   FractionsUpTo(C, fr, sp->d, sp->lanes, sp->nw, C->sW, ud - 1);
-  PetscCall(DeferredUnit(C, fr, &b, ud, PETSC_TRUE));
+  PetscCall(DeferredUnit(C, fr, b, ud, PETSC_TRUE));
   fr->built = ud - fr->o[e] + 1;
   for (sp->u = sp->lo[e]; sp->u < (sp->d == e ? ud + 2 : ud);) PetscCall(SweepUnit(S, ix, sp, dt, dim));
   /* unit ud's dual fluxes to its lower row of nodes */
   Mc = &C->Mcell[PSCellIdx(C, sp->rj[0], sp->rj[1], sp->rj[2])];
-  PetscCall(PetscArraycpy(b.F, Mc, n)); /* (the cells' masses after the sweep, aside in b.F: no longer read) */
-  PetscCall(PetscArraycpy(Mc, b.Mc, n));
-  CellRun(S, ix, &sp->sw, dim, sp->rj, n, b.Fl, sp->d == 0 ? &b.Fl[1] : b.Fh, sp->ft, NULL, NULL, sp->VL, C->P, C->sK, 1);
-  PetscCall(PetscArraycpy(Mc, b.F, n));
+  PetscCall(PetscArraycpy(b->F, Mc, n)); /* (the cells' masses after the sweep, aside in b->F: no longer read) */
+  PetscCall(PetscArraycpy(Mc, b->Mc, n));
+  CellRun(S, ix, &sp->sw, dim, sp->rj, n, b->Fl, sp->d == 0 ? &b->Fl[1] : b->Fh, sp->ft, NULL, NULL, sp->VL, C->P, C->sK, 1);
+  PetscCall(PetscArraycpy(Mc, b->F, n));
   fr->built = fr->n[e];
   sp->u     = u1;
   PetscFunctionReturn(PETSC_SUCCESS);
@@ -1931,7 +1927,7 @@ PetscBool PSCellsRemapBehindOK(const PSSolver *S, const PSIndex *ix)
   if (nu == 0 && np == 0) return PETSC_TRUE;
   /* ranks along y in 2D (PSDeferred), each with rows enough for units
      before and after the halo */
-  return S->dim == 2 && C->ce[1] - C->cs[1] >= 8 ? PETSC_TRUE : PETSC_FALSE;
+  return S->dim == 2 && C->ce[1] - C->cs[1] >= 2 * PS_CELL_GHOST + 2 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* the remap's first sweep behind the Lagrangian phase (lagrange.c's
