@@ -68,6 +68,7 @@ typedef struct {
   /* representation */
   PetscInt  cellmat;           /* -1: markers; else `representation: cells`, the index of its material among the cell materials */
   PetscReal pressure;          /* initial pressure (Pa): sets the initial specific energy through the EOS at the initial density */
+  PetscReal density;           /* a body in cells: its initial density (kg/m^3); 0: its material's */
   PetscReal plastic_strain;    /* initial equivalent plastic strain (-) */
 } PSBody;
 

@@ -52,6 +52,7 @@ cdef extern from "plyshock.h":
         PetscReal length
         PetscInt cellmat
         PetscReal pressure
+        PetscReal density
         PetscReal plastic_strain
     ctypedef struct PSScene:
         PetscInt dim
@@ -254,6 +255,7 @@ cdef class CScene:
             B.length = b["length"]
             B.cellmat = b.get("cellmat", -1)
             B.pressure = b.get("pressure", 0.0)
+            B.density = b.get("density", 0.0)
             B.plastic_strain = b.get("plastic_strain", 0.0)
             z = b["z"]
             B.nply = max(0, len(z) - 1)

@@ -32,7 +32,7 @@ def scene_to_c(scene):
                  velocity=pad(b.velocity), origin=[0.0] * 3, e=np.eye(3).tolist(), size=[0.0] * 3,
                  center=[0.0] * 3, axis=[0.0] * 3, radius=0.0, length=0.0, z=[],
                  cellmat=cellmat.index(b._mat) if b.representation == "cells" else -1, pressure=b.pressure or 0.0,
-                 plastic_strain=b.plastic_strain or 0.0)
+                 density=b.density or 0.0, plastic_strain=b.plastic_strain or 0.0)
         if b.kind == "laminate":
             lam = b.laminate
             size = list(lam.size) + ([0.0] if dim == 2 else [])

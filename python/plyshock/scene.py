@@ -618,12 +618,13 @@ class Body:
     clip: bool = False
     representation: str = "markers"      # markers | cells (Eulerian volume fractions, remapped every step)
     pressure: Optional[float] = None     # Pa: initial pressure (sets e0 through the EOS at the initial density)
+    density: Optional[float] = None      # kg/m^3: a body in cells: its initial density (default: its material's)
     plastic_strain: Optional[float] = None   # -: initial equivalent plastic strain (a material with strength)
     insertion: str = "exact"                 # exact | lattice
     points_per_cell: Optional[int] = None    # lattice: points per cell and direction (default 2; n^dim per cell)
 
     KEYS = ("name", "laminate", "box", "sphere", "cylinder", "material", "velocity", "subdivision",
-            "volume_tolerance", "sliver_fraction", "priority", "clip", "representation", "pressure", "plastic_strain", "insertion", "points_per_cell")
+            "volume_tolerance", "sliver_fraction", "priority", "clip", "representation", "pressure", "density", "plastic_strain", "insertion", "points_per_cell")
 
     @property
     def kind(self):
@@ -801,6 +802,8 @@ class Scene:
             raise DeckError(f"{path}.representation", f"unknown representation {b.representation!r}; allowed: {'|'.join(REPRESENTATIONS)}")
         if b.pressure is not None:
             b.pressure = number(b.pressure, f"{path}.pressure")
+        if b.density is not None:
+            b.density = number(b.density, f"{path}.density", 0, 1e5, lo_open=True)
         L = self.grid.upper[0] - self.grid.lower[0]
         k = b.kind
         if k == "laminate":
@@ -868,6 +871,9 @@ class Scene:
                 raise DeckError(f"{path}.subdivision", "applies to markers only; a body in cells is inserted as exact volume fractions")
             if b.insertion != "exact":
                 raise DeckError(f"{path}.insertion", "applies to markers only; a body in cells is inserted as exact volume fractions")
+        elif b.density is not None:
+            raise DeckError(f"{path}.density", "applies to a body in cells (representation: cells) only; "
+                            "a body on markers takes its material's density")
         if b.plastic_strain is not None:
             b.plastic_strain = number(b.plastic_strain, f"{path}.plastic_strain", 0, 100)
             if any((m.strength or {}).get("type", "none") == "none" for m in mats):

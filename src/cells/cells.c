@@ -314,13 +314,16 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
     const PSBody     *B = &scene->bodies[b];
     const PSMaterial *M;
     PSRegion          reg, sub[PS_MAX_SUB];
-    PetscReal         blo[3], bhi[3], A, Bc, c2, e0;
+    PetscReal         blo[3], bhi[3], A, Bc, c2, e0, rho;
     PetscInt          bcs[3], bce[3], nsub = 0, o, own;
     if (B->cellmat < 0) continue;
     M = &S->mat[C->mat[B->cellmat]];
-    /* e0 from the initial pressure at the initial density (J = 1) */
-    PetscCall(M->eos_fn(M, 1.0, B->pressure, 0.0, &A, &Bc, &c2));
-    PetscCheck(Bc > 0.0 || B->pressure == A, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "body %" PetscInt_FMT ": its EOS cannot reach the initial pressure %g Pa at its density", b, (double)B->pressure);
+    /* the initial density: the body's (a region of the same material at
+       another state, as a CTH insertion's density), else the material's */
+    rho = B->density > 0.0 ? B->density : M->rho0;
+    /* e0 from the initial pressure at the initial density (J = rho0 / rho) */
+    PetscCall(M->eos_fn(M, M->rho0 / rho, B->pressure, 0.0, &A, &Bc, &c2));
+    PetscCheck(Bc > 0.0 || B->pressure == A, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "body %" PetscInt_FMT ": its EOS cannot reach the initial pressure %g Pa at its density %g kg/m^3", b, (double)B->pressure, (double)rho);
     e0 = Bc > 0.0 ? (B->pressure - A) / Bc : 0.0;
     PetscCall(PSBodyBoundingBox(scene, b, blo, bhi));
     PSCellRange(scene, blo, bhi, bcs, bce);
@@ -348,7 +351,7 @@ PetscErrorCode PSCellsInsert(PSSolver *S)
           if (PSRegionClassify(dim, &reg, lo, hi) == PS_OUT) continue;
           PSPieceMoments(dim, lo, hi, 1, &reg, nsub, sub, m);
           if (m[0] <= 1e-14 * C->Vc) continue;
-          dm = M->rho0 * m[0];
+          dm = rho * m[0];
           if (i >= C->cs[0] && j >= C->cs[1] && k >= C->cs[2]) {
             blk = PSCellsBlk(C, PSCellIdx(C, i, j, k), B->cellmat);
             blk[PS_CV] += m[0];
