@@ -1,12 +1,15 @@
 """Eulerian-cell benchmark.  Cases (-bench_case):
 
-  quadrants  the Liska-Wendroff "quadrants" 2D Riemann problem (the initial data
+  quadrants1 the Liska-Wendroff "quadrants" 2D Riemann problem (the initial data
              of clawpack.pyclaw.examples.euler_2d.quadrants: the unit square cut
-             at x = y = 0.8, gamma 1.4, four states).  Each quadrant is a
-             material of its own (the contract's material density is the initial
-             density, so four densities need four materials; they are identical
-             gases), so the quadrants' contacts are material interfaces.  Walls
-             all round (PyClaw extrapolates; the waves reach the boundaries late).
+             at x = y = 0.8, gamma 1.4, four states) as PyClaw runs it, one
+             gas: one material, each quadrant a body at its own density and
+             pressure (the body key `density`).  Walls all round (PyClaw
+             extrapolates; the waves reach the boundaries late).
+  quadrants  the same problem with each quadrant a material of its own
+             (identical gases), so the quadrants' contacts are material
+             interfaces (Youngs' PLIC, mixed cells): the harder problem, which
+             the sessions before the body key `density` ran as the quadrants.
   pure       one gas in uniform motion (rho 1, p 1, v (0.5, 0.3)): every face
              carries flux, every cell pure.
   mixed      the same flow with two identical gases in stripes one cell wide,
@@ -23,14 +26,14 @@
              -bench_layout columns puts the four in columns a quarter wide
              instead, three interfaces across every row).
 
--bench_apart (the quadrants only): each rank runs its own slab of the
+-bench_apart (quadrants and quadrants1): each rank runs its own slab of the
 quadrants, the rows [r n/p, (r + 1) n/p) of the n^2 grid (walls at its cut,
 the bodies that reach into it), as a solver of its own (PETSc.COMM_SELF): the
 ranks share the machine, its L3 and memory, as p ranks of one run do, and
 each slab's own work, but exchange nothing and never wait for each other in
 a step.  Its rate per core (the slowest rank's time, as a run's) over the
 1-rank rate is a ceiling for the p-rank efficiency on this machine
-(scripts/bench_pairs.py --efficiency); its lines' name is "apart".
+(scripts/bench_pairs.py --efficiency); its lines' name is "apart" ("apart1" for quadrants1).
 
 Runs a number of steps after a warm-up and prints cell-updates per second per
 core (cells x steps / wall time of the steps), the figure PyClaw's peer script
@@ -71,25 +74,25 @@ steps = opts.getInt("bench_steps", 100)
 reps = opts.getInt("bench_reps", 3)
 layout = opts.getString("bench_layout", "quadrants")
 apart = opts.getBool("bench_apart", False)
-tag = "columns" if case == "boxes" and layout == "columns" else "apart" if apart else case  # (the BENCH lines' name)
+tag = "columns" if case == "boxes" and layout == "columns" else ("apart1" if case == "quadrants1" else "apart") if apart else case  # (the BENCH lines' name)
 if reps < 1:
     sys.exit(f"bench_cells.py: -bench_reps must be >= 1, got {reps}")
-if case not in ("quadrants", "pure", "mixed", "boxes"):
-    sys.exit(f"bench_cells.py: -bench_case must be quadrants, pure, mixed or boxes, got {case!r}")
+if case not in ("quadrants", "quadrants1", "pure", "mixed", "boxes"):
+    sys.exit(f"bench_cells.py: -bench_case must be quadrants, quadrants1, pure, mixed or boxes, got {case!r}")
 if layout not in ("quadrants", "columns"):
     sys.exit(f"bench_cells.py: -bench_layout must be quadrants or columns, got {layout!r}")
 if layout != "quadrants" and case != "boxes":
     sys.exit(f"bench_cells.py: -bench_layout {layout} is for -bench_case boxes only, got -bench_case {case}")
 comm = PETSc.COMM_WORLD
 mpi = comm.tompi4py()
-if apart and case != "quadrants":
-    sys.exit(f"bench_cells.py: -bench_apart is for -bench_case quadrants only, got -bench_case {case}")
+if apart and case not in ("quadrants", "quadrants1"):
+    sys.exit(f"bench_cells.py: -bench_apart is for -bench_case quadrants or quadrants1 only, got -bench_case {case}")
 if apart and n % comm.getSize():
     sys.exit(f"bench_cells.py: -bench_apart needs -bench_n a multiple of the ranks ({comm.getSize()}), got {n}")
 
-if case == "quadrants":
-    scene = quadrants_scene(n)   # (benchlib.py: the four states, each a material)
-    what = "quadrants, 4 gas materials"
+if case in ("quadrants", "quadrants1"):
+    scene = quadrants_scene(n, one_gas=case == "quadrants1")   # (benchlib.py: the four states, one gas or each a material)
+    what = "quadrants, one gas" if case == "quadrants1" else "quadrants, 4 gas materials"
     if apart:
         # this rank's slab alone: the rows a run on as many ranks gives it
         # (the DMDA splits n rows evenly along y), its bodies, their materials

@@ -4,10 +4,13 @@
 
 For each size, --pairs times in turn: the peer (Clawpack PyClaw's
 quadrants, Fortran kernels, second order, dimensional splitting, to t = 0.2,
-1 core: scripts/peer_pyclaw), then plyshock (scripts/bench_cells.py, the
-quadrants, 1 rank, 100 steps at 256^2 and 40 at larger sizes after its 5
-steps of warm-up, as scripts/bench runs it); each side the best of two runs
-in one process (a single run of the peer is its process's first, about 9%
+1 core: scripts/peer_pyclaw), then plyshock (scripts/bench_cells.py, 1
+rank, 100 steps at 256^2 and 40 at larger sizes after its 5 steps of
+warm-up, as scripts/bench runs it) on the quadrants as one gas, as PyClaw
+runs them (-bench_case quadrants1), then on the quadrants with a gas
+material per quadrant (-bench_case quadrants: material interfaces at the
+quadrants' edges, which PyClaw does not track), each set against the same
+PyClaw run; each side the best of two runs in one process (a single run of the peer is its process's first, about 9%
 slower at 256^2 here than its second, where plyshock's is warmed up); the
 ratio of plyshock's rate to the peer's in each pair, and their median.  The main rows of scripts/bench
 take each side's best of several runs minutes apart, so a disturbance of
@@ -17,9 +20,9 @@ code the thirty-fifth session's two bench runs read 1.68 and 1.91 at
 moves only when a disturbance lasts through half of them.
 
 Prints each pair and the median, and the lines
-    BENCH cells_pairs_<n> <median ratio>
-    BENCH cells_pairs_lo_<n> <lowest ratio>, BENCH cells_pairs_hi_<n> <highest>
-    BENCH cells_pairs_k_<n> <pairs>
+    BENCH cells_pairs1_<n> <median ratio>  (one gas; cells_pairs_<n>: a material per quadrant)
+    BENCH cells_pairs1_lo_<n> <lowest ratio>, BENCH cells_pairs1_hi_<n> <highest>
+    BENCH cells_pairs1_k_<n> <pairs>
 for scripts/bench_table.py.  Cell-updates per second per core; the ratios
 are plyshock's rate over PyClaw's.  Where the peer cannot run (its venv
 cannot be made), it says so and prints no BENCH line.
@@ -37,7 +40,9 @@ whose rate per core over the 1-rank rate is the ceiling the machine sets the
 two-rank efficiency (the shared L3 and memory, and the slabs' own work); the
 efficiency over it is what the ranks' coupling keeps (halos, waits, the
 phases a rank with a neighbour runs apart): BENCH cells_ceilpairs_<n> and
-cells_couplepairs_<n>, each with its _lo_, _hi_ and _k_.
+cells_couplepairs_<n>, each with its _lo_, _hi_ and _k_.  These are the
+quadrants with a material per quadrant; each pair then takes the one gas's
+1-rank and 2-rank runs too: BENCH cells_effpairs1_<n> (and _lo_, _hi_, _k_).
 """
 import argparse
 import os
@@ -87,13 +92,13 @@ def peer_rate(n):
     return None
 
 
-def plyshock_rate(n, ranks=1, apart=False):
+def plyshock_rate(n, ranks=1, apart=False, case="quadrants"):
     """plyshock's rate (cell-updates/s per core) for the quadrants at n^2 on `ranks` ranks, the best of two runs in one process
-    (apart: each rank its slab alone, bench_cells.py -bench_apart)."""
+    (apart: each rank its slab alone, bench_cells.py -bench_apart; case quadrants1: one gas)."""
     steps = 100 if n <= 256 else 40
-    out = run(["mpiexec", "-n", str(ranks), os.path.join(ROOT, ".venv", "bin", "python"), "scripts/bench_cells.py",
+    out = run(["mpiexec", "-n", str(ranks), os.path.join(ROOT, ".venv", "bin", "python"), "scripts/bench_cells.py", "-bench_case", case,
                "-bench_n", str(n), "-bench_steps", str(steps), "-bench_reps", "2"] + (["-bench_apart"] if apart else []))
-    m = re.search(rf"^BENCH cells_{'apart' if apart else 'quadrants'}_{n}_{ranks} (\S+)$", out, re.M)
+    m = re.search(rf"^BENCH cells_{'apart' if apart else case}_{n}_{ranks} (\S+)$", out, re.M)
     if not m:
         sys.exit(f"bench_pairs.py: bench_cells.py printed no rate for {n}^2:\n{out}")
     return float(m.group(1))
@@ -118,29 +123,37 @@ def main():
     if args.efficiency:
         for n in args.sizes:
             print(f"quadrants {n}^2, 2 ranks against 1, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (1 rank's run, then 2 ranks', then 2 ranks apart)", flush=True)
-            effs, ceils, couples = [], [], []
+            effs, ceils, couples, effs1 = [], [], [], []
             for i in range(args.pairs):
                 r1, r2, ra = plyshock_rate(n, 1), plyshock_rate(n, 2), plyshock_rate(n, 2, apart=True)
+                g1, g2 = plyshock_rate(n, 1, case="quadrants1"), plyshock_rate(n, 2, case="quadrants1")
                 effs.append(r2 / r1)
                 ceils.append(ra / r1)
                 couples.append(r2 / ra)
+                effs1.append(g2 / g1)
                 print(f"  pair {i + 1}: 1 rank {r1 / 1e6:.3f} M/s, 2 ranks {r2 / 1e6:.3f} M/s per core, efficiency {r2 / r1:.3f}; "
-                      f"apart {ra / 1e6:.3f} M/s per core, ceiling {ra / r1:.3f}, coupling {r2 / ra:.3f}", flush=True)
+                      f"apart {ra / 1e6:.3f} M/s per core, ceiling {ra / r1:.3f}, coupling {r2 / ra:.3f}; "
+                      f"one gas 1 rank {g1 / 1e6:.3f} M/s, 2 ranks {g2 / 1e6:.3f} M/s per core, efficiency {g2 / g1:.3f}", flush=True)
             report("effpairs", n, "efficiency", effs)
             report("ceilpairs", n, "ceiling (2 ranks apart against 1)", ceils)
             report("couplepairs", n, "coupling (2 ranks against 2 apart)", couples)
+            report("effpairs1", n, "efficiency, one gas", effs1)
         return
     for n in args.sizes:
-        print(f"quadrants {n}^2 against PyClaw, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (PyClaw's runs, then plyshock's; 1 core each)", flush=True)
-        ratios = []
+        print(f"quadrants {n}^2 against PyClaw, in {args.pairs} pair{'s' if args.pairs != 1 else ''} (PyClaw's runs, then plyshock's: one gas, then a material per quadrant; 1 core each)", flush=True)
+        ratios, ratios1 = [], []
         for i in range(args.pairs):
             rp = peer_rate(n)
             if rp is None:
                 return
+            rg = plyshock_rate(n, case="quadrants1")
             rc = plyshock_rate(n)
+            ratios1.append(rg / rp)
             ratios.append(rc / rp)
-            print(f"  pair {i + 1}: PyClaw {rp / 1e6:.3f} M/s, plyshock {rc / 1e6:.3f} M/s, ratio {rc / rp:.3f}", flush=True)
-        report("pairs", n, "ratio", ratios)
+            print(f"  pair {i + 1}: PyClaw {rp / 1e6:.3f} M/s, plyshock one gas {rg / 1e6:.3f} M/s, ratio {rg / rp:.3f}; "
+                  f"a material per quadrant {rc / 1e6:.3f} M/s, ratio {rc / rp:.3f}", flush=True)
+        report("pairs1", n, "ratio, one gas", ratios1)
+        report("pairs", n, "ratio, a material per quadrant", ratios)
 
 
 if __name__ == "__main__":

@@ -33,10 +33,18 @@ WALLS = {"x-": "symmetry", "x+": "symmetry", "y-": "symmetry", "y+": "symmetry"}
 GAS = {"type": "ideal-gas", "gamma": 1.4}
 
 
-def quadrants_scene(n, cfl=0.4, t_end=10.0):
-    """The quadrants on n x n cells (SI units of a unit square: m, kg/m^3, m/s, Pa)."""
+def quadrants_scene(n, cfl=0.4, t_end=10.0, one_gas=False):
+    """The quadrants on n x n cells (SI units of a unit square: m, kg/m^3, m/s, Pa).
+    one_gas: one material, each quadrant a body at its own density (the body
+    key `density`), as PyClaw's one fluid; else a gas material per quadrant,
+    each quadrant's edges material interfaces (Youngs' PLIC, mixed cells)."""
     from plyshock import Body, Box, Grid, Material, Run, Scene
-    mats = [Material(name, density=rho, eos=GAS) for name, xr, yr, rho, u, v, p in QUADRANTS]
-    bodies = [Body(name, box=Box([xr[0], yr[0]], [xr[1], yr[1]]), material=name, representation="cells", pressure=p, velocity=[u, v])
-              for name, xr, yr, rho, u, v, p in QUADRANTS]
+    if one_gas:
+        mats = [Material("gas", density=QUADRANTS[0][3], eos=GAS)]
+        bodies = [Body(name, box=Box([xr[0], yr[0]], [xr[1], yr[1]]), material="gas", representation="cells", pressure=p,
+                       density=rho, velocity=[u, v]) for name, xr, yr, rho, u, v, p in QUADRANTS]
+    else:
+        mats = [Material(name, density=rho, eos=GAS) for name, xr, yr, rho, u, v, p in QUADRANTS]
+        bodies = [Body(name, box=Box([xr[0], yr[0]], [xr[1], yr[1]]), material=name, representation="cells", pressure=p, velocity=[u, v])
+                  for name, xr, yr, rho, u, v, p in QUADRANTS]
     return Scene(2, Grid([0, 0], [1, 1], [n, n], WALLS), mats, bodies, Run(t_end=t_end, cfl=cfl)).validate()
