@@ -78,13 +78,11 @@ def test_cell_bodies_are_inserted_exactly(tmpdir_mpi):
 
 
 def quadrants(n, one_gas, t_end):
-    """The Liska-Wendroff quadrants (scripts/benchlib.py's, PyClaw's initial
-    data) on n x n cells: one gas whose bodies set their own density (the
-    body key `density`), or a gas material per quadrant."""
-    q = [("ur", (0.8, 1.0), (0.8, 1.0), 1.5, 0.0, 0.0, 1.5),
-         ("ul", (0.0, 0.8), (0.8, 1.0), 0.532258064516129, 1.206045378311055, 0.0, 0.3),
-         ("ll", (0.0, 0.8), (0.0, 0.8), 0.137992831541219, 1.206045378311055, 1.206045378311055, 0.029032258064516),
-         ("lr", (0.8, 1.0), (0.0, 0.8), 0.532258064516129, 0.0, 1.206045378311055, 0.3)]
+    """The Liska-Wendroff quadrants (the bench's: scripts/benchlib.py, PyClaw's
+    initial data) on n x n cells: one gas whose bodies set their own density
+    (the body key `density`), or a gas material per quadrant."""
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scripts"))
+    from benchlib import QUADRANTS as q
     mats = [gas("gas", 1.0)] if one_gas else [gas(name, rho) for name, _, _, rho, _, _, _ in q]
     bodies = [Body(name, box=Box([xr[0], yr[0]], [xr[1], yr[1]]), material="gas" if one_gas else name, representation="cells",
                    pressure=p, velocity=[u, v], density=rho if one_gas else None) for name, xr, yr, rho, u, v, p in q]
