@@ -42,7 +42,7 @@ prints (../shared/peers/pyclaw_euler.py, run by scripts/bench); the best of
 takes PyClaw's best of as many (this machine's speed drifts from one run to
 the next).
 
-    mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants] [-bench_n 256] [-bench_steps 100] [-bench_reps 3] [-bench_layout quadrants] [-bench_apart]
+    mpiexec -n 2 python scripts/bench_cells.py [-bench_case quadrants|quadrants1|pure|mixed|boxes] [-bench_n 256] [-bench_steps 100] [-bench_reps 3] [-bench_layout quadrants] [-bench_apart]
 
 The line BENCH cells_<case>_<n>_<ranks> <rate> (case columns for the boxes in columns) is for scripts/bench's table;
 so is BENCH cells_flux_ns_<case>_<n>_<ranks>: the remap's flux phase (event
