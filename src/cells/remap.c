@@ -1472,8 +1472,7 @@ typedef struct PSDeferred_ PSDeferred;
    sweep needs more (SweepBegin) */
 static PetscErrorCode DeferredArrays(PSCells *C, PSSweepProgress *sp)
 {
-  PSDeferred *b = &sp->def;
-
+  PSDeferred    *b = &sp->def;
   const PetscInt e = C->dim - 1, fs = C->nmat * C->ms + 2, ce = C->cst[e];
   const PetscInt nA = (sp->fr.np - 1) * sp->fr.s[e], nS = (C->ms - 1) * ce, nF = fs * sp->ft + 1;
   const PetscInt n = nA + nS + 3 * ce + 2 * nF + 2 * fs * sp->ft, nr = 4 * sp->ns;
@@ -1773,7 +1772,7 @@ static inline PetscErrorCode SweepUnit(PSSolver *S, const PSIndex *ix, PSSweepPr
    is read again) */
 static inline PetscErrorCode DeferredUnits(PSSolver *S, const PSIndex *ix, PSSweepProgress *sp, PetscReal dt, const PetscInt dim)
 {
-  PSCells       *C = S->cells;
+  PSCells          *C = S->cells;
   const PetscInt    e = dim - 1, ud = sp->ud, u1 = sp->u1, n = sp->rn;
   PSFractions      *fr = &sp->fr;
   const PSDeferred *b  = &sp->def;
