@@ -98,7 +98,8 @@ def plyshock_rate(n, ranks=1, apart=False, case="quadrants"):
     steps = 100 if n <= 256 else 40
     out = run(["mpiexec", "-n", str(ranks), os.path.join(ROOT, ".venv", "bin", "python"), "scripts/bench_cells.py", "-bench_case", case,
                "-bench_n", str(n), "-bench_steps", str(steps), "-bench_reps", "2"] + (["-bench_apart"] if apart else []))
-    m = re.search(rf"^BENCH cells_{'apart' if apart else case}_{n}_{ranks} (\S+)$", out, re.M)
+    tag = ("apart1" if case == "quadrants1" else "apart") if apart else case  # (bench_cells.py's BENCH lines' name)
+    m = re.search(rf"^BENCH cells_{tag}_{n}_{ranks} (\S+)$", out, re.M)
     if not m:
         sys.exit(f"bench_pairs.py: bench_cells.py printed no rate for {n}^2:\n{out}")
     return float(m.group(1))
